@@ -1,0 +1,84 @@
+# projtrack: the two commands are `make book` and `make test` (see README.md).
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+
+PYTHON_BASE ?= python3.11
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.projtrack-installed
+BOOK_HTML := book/_build/html
+# Notebooks must not pick up a user's matplotlib or IPython settings.
+export MPLCONFIGDIR := $(CURDIR)/.cache/matplotlib
+export IPYTHONDIR := $(CURDIR)/.cache/ipython
+export PYTHONHASHSEED := 0
+export PYDEVD_DISABLE_FILE_VALIDATION := 1
+
+.PHONY: help book test figures bench lock clean env unit nbval bookcheck html kl-data
+
+help:
+	@echo "make book     create .venv from environment.lock, execute every notebook, build the HTML book"
+	@echo "make test     unit + property tests, nbval over every notebook, figure regression, strict book build"
+	@echo "make figures  execute every notebook in place (refreshes stored outputs and figures/)"
+	@echo "make bench    run the benchmarks in benchmarks/"
+	@echo "make lock     regenerate environment.lock from pyproject.toml"
+	@echo "make clean    remove build products and caches (keeps .venv)"
+
+# The environment: (re)created whenever environment.lock or pyproject.toml is newer.
+env: $(STAMP)
+$(STAMP): environment.lock pyproject.toml
+	@echo "==> creating $(VENV) from environment.lock"
+	rm -rf $(VENV)
+	$(PYTHON_BASE) -m venv $(VENV)
+	$(PY) -m pip install --quiet --require-hashes --only-binary :all: --no-deps -r environment.lock 2> >(grep -v "is ignored: it is neither a file nor a directory" >&2)
+	$(PY) -m pip install --quiet --no-deps --no-build-isolation -e . 2> >(grep -v "is ignored: it is neither a file nor a directory" >&2)
+	$(PY) -m pip check
+	@mkdir -p $(MPLCONFIGDIR) $(IPYTHONDIR)
+	touch $(STAMP)
+
+figures: $(STAMP)
+	@echo "==> executing every notebook in a fresh kernel (outputs stored in place, figures/ regenerated)"
+	$(PY) tools/run_notebooks.py
+
+html: $(STAMP)
+	@echo "==> building the HTML book from the stored outputs"
+	$(VENV)/bin/jupyter-book build book --keep-going
+	@echo "The book is at $(CURDIR)/$(BOOK_HTML)/index.html"
+
+book: figures
+	@$(MAKE) --no-print-directory html
+
+unit: $(STAMP)
+	@echo "==> unit and property tests"
+	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py
+
+nbval: $(STAMP)
+	@echo "==> nbval over every notebook, then figure regression against figures/"
+	$(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
+		--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \
+		-v book tests/test_figure_regression.py
+
+bookcheck: $(STAMP)
+	@echo "==> strict book build (warnings and broken references are errors)"
+	rm -rf book/_build
+	$(VENV)/bin/jupyter-book build book -W -n --keep-going
+	@echo "strict book build passed"
+
+test: $(STAMP)
+	@$(MAKE) --no-print-directory unit
+	@$(MAKE) --no-print-directory nbval
+	@$(MAKE) --no-print-directory bookcheck
+
+bench: $(STAMP)
+	@set -e; for f in benchmarks/bench_*.py; do echo "==> $$f"; $(PY) $$f; done
+
+lock:
+	@echo "==> regenerating environment.lock (uv pip compile, Python 3.11, with hashes)"
+	$(PYTHON_BASE) -m venv .cache/lockenv
+	.cache/lockenv/bin/pip install --quiet uv 2> >(grep -v "is ignored" >&2)
+	.cache/lockenv/bin/uv pip compile pyproject.toml --all-extras --python-version 3.11 \
+		--python-platform x86_64-manylinux_2_28 --generate-hashes --no-header -o environment.lock
+
+clean:
+	rm -rf book/_build .cache .pytest_cache .hypothesis .benchmarks
+	find . -name __pycache__ -type d -prune -not -path "./$(VENV)/*" -exec rm -rf {} +
