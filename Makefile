@@ -56,7 +56,7 @@ nbval: $(STAMP)
 	@echo "==> nbval over every notebook, then figure regression against figures/"
 	$(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
 		--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \
-		-v book tests/test_figure_regression.py
+		--ignore=book/_build -v book tests/test_figure_regression.py
 
 bookcheck: $(STAMP)
 	@echo "==> strict book build (warnings and broken references are errors)"

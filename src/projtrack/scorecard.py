@@ -34,7 +34,7 @@ from pathlib import Path
 from projtrack._paths import figures_root
 from projtrack.inventory import inventory_ids
 
-__all__ = ["VERDICTS", "COLUMNS", "Row", "Scorecard", "read_scorecards"]
+__all__ = ["VERDICTS", "COLUMNS", "Row", "Scorecard", "read_scorecards", "summary"]
 
 #: The allowed verdicts, in order of strength.
 VERDICTS: tuple[str, ...] = ("reproduced", "within-tolerance", "qualitative", "differs", "not-reproducible")
@@ -239,3 +239,55 @@ def read_scorecards(root: Path | None = None) -> list[dict[str, str]]:
             out.append({**{c: d.get(c) or "" for c in COLUMNS}, "part": card.parent.name,
                         "notebook": src.get(d.get("item", ""), "")})
     return out
+
+
+def summary(root: Path | None = None):
+    """Collect every scorecard against the inventory, for the Reproducibility summary page.
+
+    Parameters
+    ----------
+    root : path-like, optional
+        Folder holding ``<part>/scorecard.csv`` files (default: :func:`figures_root`).
+
+    Returns
+    -------
+    items : pandas.DataFrame
+        One row per inventory id, in inventory order, with columns ``id``, ``part``,
+        ``kind``, ``item`` (what it is), ``verdict`` (the id's own row, or the weakest
+        verdict among its sub-rows; empty if not covered), ``rows`` (how many scorecard
+        rows cover it) and ``notebook``.
+    counts : pandas.DataFrame
+        Number of inventory ids per verdict (plus ``not yet covered``).
+    """
+    import pandas as pd
+
+    from projtrack.inventory import PARTS, load_inventory
+
+    rows = read_scorecards(root)
+    rank = {v: i for i, v in enumerate(VERDICTS)}
+    by_id: dict[str, list[dict[str, str]]] = {}
+    for r in rows:
+        by_id.setdefault(r["item"].split(".", 1)[0], []).append(r)
+    records = []
+    for inv in load_inventory():
+        hits = by_id.get(inv.id, [])
+        own = [h for h in hits if h["item"] == inv.id]
+        if own:
+            verdict = own[0]["verdict"]
+        elif hits:
+            verdict = max((h["verdict"] for h in hits), key=lambda v: rank.get(v, len(rank)))
+        else:
+            verdict = ""
+        notebooks = sorted({h["notebook"] for h in hits if h["notebook"]})
+        records.append({
+            "id": inv.id, "part": PARTS[inv.prefix][0], "kind": inv.kind, "item": inv.item,
+            "verdict": verdict, "rows": len(hits), "notebook": "; ".join(notebooks),
+        })
+    items = pd.DataFrame.from_records(records)
+    labels = [*VERDICTS, "not yet covered"]
+    counts = pd.DataFrame({
+        "verdict": labels,
+        "inventory ids": [int((items["verdict"] == v).sum()) for v in VERDICTS]
+        + [int((items["verdict"] == "").sum())],
+    })
+    return items, counts

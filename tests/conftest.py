@@ -1,0 +1,72 @@
+"""pytest configuration shared by the unit tests, nbval and the figure-regression test.
+
+When pytest runs with ``--nbval``, every notebook kernel inherits
+``PROJTRACK_FIGURES_DIR`` pointing to a fresh temporary folder, so nbval's re-execution of
+the notebooks regenerates every figure and table there without touching the committed
+``figures/``; ``tests/test_figure_regression.py`` then compares the two folders. The
+regression test is moved after all notebook items so the comparison sees a complete run.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, settings
+
+ROOT = Path(__file__).resolve().parents[1]
+
+settings.register_profile(
+    "projtrack", deadline=None, max_examples=60, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile("projtrack")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config._projtrack_regen_dir = None  # type: ignore[attr-defined]
+    if getattr(config.option, "nbval", False):
+        regen = Path(tempfile.mkdtemp(prefix="projtrack-figures-"))
+        os.environ["PROJTRACK_FIGURES_DIR"] = str(regen)
+        config._projtrack_regen_dir = regen  # type: ignore[attr-defined]
+
+
+def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list) -> None:
+    last = [it for it in items if it.nodeid.startswith("tests/test_figure_regression.py")]
+    first = [it for it in items if it not in last]
+    items[:] = first + last
+
+
+@pytest.fixture(scope="session")
+def regenerated_figures(request: pytest.FixtureRequest) -> Path:
+    """Folder holding the figures and tables of a fresh execution of every notebook.
+
+    Under ``--nbval`` it is the folder nbval's kernels wrote to. Otherwise the notebooks of
+    ``book/_toc.yml`` are executed here (in memory, their files untouched) into a
+    temporary folder.
+    """
+    regen = request.config._projtrack_regen_dir  # type: ignore[attr-defined]
+    if regen is not None:
+        return regen
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    import nbformat
+    from nbclient import NotebookClient
+    from run_notebooks import toc_notebooks
+
+    out = Path(tempfile.mkdtemp(prefix="projtrack-figures-"))
+    old = os.environ.get("PROJTRACK_FIGURES_DIR")
+    os.environ["PROJTRACK_FIGURES_DIR"] = str(out)
+    try:
+        for nb_path in toc_notebooks():
+            nb = nbformat.read(nb_path, as_version=4)
+            NotebookClient(nb, timeout=600, kernel_name="python3",
+                           resources={"metadata": {"path": str(nb_path.parent)}}).execute()
+    finally:
+        if old is None:
+            os.environ.pop("PROJTRACK_FIGURES_DIR", None)
+        else:
+            os.environ["PROJTRACK_FIGURES_DIR"] = old
+    return out
