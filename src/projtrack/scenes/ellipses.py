@@ -1,0 +1,128 @@
+"""Synthetic ellipses and projection data for Part I (Karl, Verghese & Willsky 1994, KVW).
+
+KVW publish the ellipse of eq. (26), the projection geometry and the noise family of
+their experiments (Sec. 7), but not their random draws nor the periodic drive ``B_k`` of
+Sec. 7.2. This module makes:
+
+* :data:`X26` and :func:`paper_projections` - the ellipse of eq. (26) and the five
+  support directions ``theta_k = (k-1) pi / 5`` of Sec. 7.1;
+* :func:`lognormal_noise` - the one-sided, zero-mean log-normal perturbation of Sec. 7:
+  ``Y = c + W`` with ``Y`` log-normal of mean ``c`` and the given variance, so the left
+  support point of ``W`` is ``-c`` and ``Y`` is never negative;
+* :func:`snr_static`, :func:`snr_dynamic` - the two SNR definitions of Sec. 7.1 and 7.2;
+* :func:`periodic_drive` - a documented choice of periodic PSD drive for Sec. 7.2 (the
+  paper shows it only as a picture, Fig. 10): ``B_k = beta s_k R(pi k / P) diag(1, rho)
+  R(pi k / P)^T`` with ``s_k = (1 + cos(2 pi k / P)) / 2``; it pulses (period ``P``) and
+  its orientation turns by ``pi`` per period, so it is periodic with period ``P``;
+* :func:`random_ellipsoid`, :func:`random_projection` - random test problems.
+
+Nothing here is tuned to reproduce a number of the paper.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["X26", "paper_projections", "lognormal_noise", "snr_static", "snr_dynamic", "periodic_drive",
+           "random_ellipsoid", "random_projection", "rotation"]
+
+#: The underlying ellipse of eq. (26) of KVW: semi-axes 2 and 1, major axis at pi/4.
+X26: np.ndarray = 0.5 * np.array([[5.0, 3.0], [3.0, 5.0]])
+
+
+def rotation(angle: float) -> np.ndarray:
+    """The planar rotation matrix by ``angle`` (counter-clockwise)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def paper_projections(q: int = 5) -> list[np.ndarray]:
+    """The 1-D projections ``C_k = [cos theta_k, sin theta_k]^T``, ``theta_k = (k-1) pi / q`` (Sec. 7.1)."""
+    if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or q < 1:
+        raise ValueError(f"q must be a positive int, got {q!r}")
+    th = np.arange(q) * np.pi / q
+    return [np.array([[np.cos(t)], [np.sin(t)]]) for t in th]
+
+
+def lognormal_noise(ideal: object, variance: float, rng: np.random.Generator) -> np.ndarray:
+    """One-sided zero-mean log-normal perturbations ``W`` of positive ideal values ``c`` (Sec. 7).
+
+    ``c + W`` is log-normal with mean ``c`` and variance ``variance``:
+    ``sigma_ln^2 = log(1 + variance / c^2)``, ``mu_ln = log(c) - sigma_ln^2 / 2``.
+    ``W`` therefore has mean 0, variance ``variance`` and left support point ``-c``.
+
+    Parameters
+    ----------
+    ideal : array_like
+        Positive ideal scalar observations ``c = C_k^T X C_k``.
+    variance : float
+        Variance of each perturbation (KVW use 0.3, 9 and 4).
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    numpy.ndarray
+        ``W``, same shape as ``ideal``.
+    """
+    c = np.asarray(ideal, dtype=float)
+    if not np.all(np.isfinite(c)) or np.any(c <= 0):
+        raise ValueError("ideal must contain finite positive values")
+    if not (np.isfinite(variance) and variance > 0):
+        raise ValueError(f"variance must be a positive number, got {variance!r}")
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError("rng must be a numpy.random.Generator")
+    s2 = np.log1p(variance / c**2)
+    mu = np.log(c) - s2 / 2
+    return rng.lognormal(mu, np.sqrt(s2)) - c
+
+
+def snr_static(ideal: object, sigma: float) -> float:
+    """SNR of Sec. 7.1: ``sqrt(sum c_k^2) / (sigma sqrt(n))``, ``n`` the number of observations."""
+    c = np.asarray(ideal, dtype=float).ravel()
+    return float(np.sqrt(np.sum(c**2)) / (sigma * np.sqrt(c.size)))
+
+
+def snr_dynamic(ideal: object, sigma: float) -> float:
+    """Average SNR of Sec. 7.2: the mean of the ideal scalar observations divided by ``sigma``."""
+    return float(np.mean(np.asarray(ideal, dtype=float)) / sigma)
+
+
+def periodic_drive(n_steps: int, beta: float = 2.0, period: int = 12, rho: float = 0.25) -> np.ndarray:
+    """A periodic PSD drive ``B_0..B_{n_steps-1}`` for Sec. 7.2 (choice documented above).
+
+    ``beta = 2`` makes the average ideal observation of the simulated ellipse of Sec. 7.2
+    about 2, i.e. an average SNR about 1 with noise variance 4, as the paper states.
+    """
+    if not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
+        raise ValueError("n_steps must be a non-negative int")
+    if not isinstance(period, (int, np.integer)) or period < 1:
+        raise ValueError("period must be a positive int")
+    if not (beta >= 0 and 0 <= rho):
+        raise ValueError("beta and rho must be non-negative")
+    out = []
+    for k in range(n_steps):
+        s = (1 + np.cos(2 * np.pi * k / period)) / 2
+        R = rotation(np.pi * k / period)
+        B = beta * s * R @ np.diag([1.0, rho]) @ R.T
+        out.append((B + B.T) / 2)
+    return np.array(out).reshape(n_steps, 2, 2)
+
+
+def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, max_axis: float = 2.0) -> np.ndarray:
+    """A random ``n x n`` positive definite matrix: Haar-random axes, semi-axes uniform in [min, max]."""
+    from scipy.stats import special_ortho_group
+
+    if n == 1:
+        return np.array([[rng.uniform(min_axis, max_axis) ** 2]])
+    Q = special_ortho_group.rvs(n, random_state=rng)
+    ax = rng.uniform(min_axis, max_axis, size=n)
+    X = (Q * ax**2) @ Q.T
+    return (X + X.T) / 2
+
+
+def random_projection(n: int, m: int, rng: np.random.Generator) -> np.ndarray:
+    """A Haar-random ``n x m`` matrix with orthonormal columns (an m-dimensional view)."""
+    if not (1 <= m <= n):
+        raise ValueError("need 1 <= m <= n")
+    Q, R = np.linalg.qr(rng.normal(size=(n, m)))
+    return Q * np.sign(np.diag(R))
