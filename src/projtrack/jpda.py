@@ -1,23 +1,68 @@
 """Joint probabilistic data association (JPDA): Fisher & Casasent (1989).
 
 Implements chapter 4 of Casasent's 1989 report (J. L. Fisher and D. P. Casasent,
-"Fast JPDA multitarget tracking algorithm", Appl. Opt. 28, 1989).
+"Fast JPDA multitarget tracking algorithm", Appl. Opt. 28, 1989): measurement
+validation (Sec. II.A), feasibility matrices and eq. (1) (Sec. II.B), the conventional
+computation of the association probabilities beta_jt and eq. (2) (Sec. II.C), the
+modified validation matrix (MVM) of eqs. (3)-(4) (Sec. III.A), the fast algorithm with
+measurements-used (MU) bit words and eq. (6) (Secs. III.B-D) with the operation counts
+of Tables IV-V, a numerical model of the frequency-multiplexed vector-inner-product
+processor of Fig. 5 (Sec. IV), and a JPDA tracker built on ``filterpy`` Kalman filters.
 
 Notation follows the paper: ``m`` measurements, ``T`` targets, a binary validation
 matrix of shape ``(m, T + 1)`` whose column 0 (the "no target", i.e. clutter, column)
 is all ones, and feasibility matrices that pick exactly one 1 per row with at most one
-1 per target column (Sec. II.B).
+1 per target column (Sec. II.B). The MVM has shape ``(m + 1, T)``: row 0 holds
+``1 - P_D,t`` (eq. 3) and row ``j`` holds ``f_t(z_j) P_D,t`` (eq. 4), zero where
+measurement ``j`` is not validated for target ``t``.
+
+Probability model
+-----------------
+A feasible joint event assigns each target either "not detected" or a distinct
+validated measurement; its weight is the product over targets of the MVM entry it
+uses (row 0 for an undetected target), i.e. the product of the individual event
+probabilities of Sec. II.C. With a clutter (false-measurement) density ``lambda``
+the standard JPDA weights (Fortmann, Bar-Shalom & Scheffe 1983) are recovered by
+dividing rows ``j >= 1`` by ``lambda`` (see :func:`modified_validation_matrix`); the
+paper's form is ``lambda = 1``. ``beta[j, t]`` is the probability of the events in
+which measurement ``j`` is associated with target ``t`` and ``beta[0, t]`` that target
+``t`` was not detected, eq. (2); every column sums to 1.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
 from math import comb, factorial
 
 import numpy as np
 
-__all__ = ["count_feasible_events", "iter_feasibility_matrices"]
-
+__all__ = [
+    "count_feasible_events",
+    "iter_feasibility_matrices",
+    "gate_threshold",
+    "mahalanobis_sq",
+    "validation_matrix",
+    "modified_validation_matrix",
+    "mvm_to_validation",
+    "OpCount",
+    "beta",
+    "beta_enumerated",
+    "beta_paper",
+    "beta_forward_backward",
+    "clusters",
+    "mu_words",
+    "vector_size",
+    "vector_size_text_formula",
+    "stage_expressions",
+    "conventional_op_count",
+    "fast_op_count",
+    "optical_vip_schedule",
+    "optical_vip_stage",
+    "stage_update",
+    "JPDATracker",
+    "GNNTracker",
+]
 
 def _check_count(value: object, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
@@ -108,3 +153,909 @@ def iter_feasibility_matrices(validation: np.ndarray) -> Iterator[np.ndarray]:
             yield from rec(j + 1, used | {t} if t else used)
 
     yield from rec(0, set())
+
+
+# --------------------------------------------------------------------------------------
+# Validation (Sec. II.A) and the modified validation matrix (Sec. III.A)
+# --------------------------------------------------------------------------------------
+
+
+def _as_float_array(x: object, name: str, ndim: int) -> np.ndarray:
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array") from exc
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must contain only finite values")
+    return a
+
+
+def _check_prob(p: object, name: str, n: int, low_open: bool = True) -> np.ndarray:
+    a = np.broadcast_to(np.asarray(p, dtype=float), (n,)) if np.ndim(p) == 0 else np.asarray(p, dtype=float)
+    if a.shape != (n,):
+        raise ValueError(f"{name} must be a scalar or have shape ({n},), got {a.shape}")
+    if not np.all(np.isfinite(a)) or np.any(a > 1) or np.any(a <= 0 if low_open else a < 0):
+        lo = "(0, 1]" if low_open else "[0, 1]"
+        raise ValueError(f"{name} must lie in {lo}, got {a}")
+    return a.astype(float)
+
+
+def gate_threshold(gate_prob: float, dim: int) -> float:
+    """Chi-square gate threshold ``d`` with ``P(chi2_dim <= d) = gate_prob`` (Sec. II.A).
+
+    A measurement ``z`` is validated for a target when its squared Mahalanobis
+    distance ``(z - z_hat)^T S^{-1} (z - z_hat)`` to the predicted measurement
+    ``z_hat`` (innovation covariance ``S``) does not exceed ``d``.
+    """
+    from scipy.stats import chi2
+
+    g = float(gate_prob)
+    if not 0 < g < 1:
+        raise ValueError(f"gate_prob must lie in (0, 1), got {gate_prob}")
+    dim = _check_count(dim, "dim")
+    if dim < 1:
+        raise ValueError("dim must be >= 1")
+    return float(chi2.ppf(g, dim))
+
+
+def mahalanobis_sq(measurements: object, z_pred: object, S: object) -> np.ndarray:
+    """Squared Mahalanobis distances of every measurement to every predicted measurement.
+
+    Parameters
+    ----------
+    measurements : array_like, shape (m, d)
+    z_pred : array_like, shape (T, d)
+        Predicted measurements ``z_hat_t(k|k-1)``.
+    S : array_like, shape (T, d, d)
+        Innovation covariances ``S_t(k)`` (symmetric positive definite).
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, T)
+    """
+    z = _as_float_array(measurements, "measurements", 2)
+    zp = _as_float_array(z_pred, "z_pred", 2)
+    S_ = _as_float_array(S, "S", 3)
+    T, d = zp.shape
+    if z.shape[1] != d and z.shape[0] > 0:
+        raise ValueError(f"measurements must have {d} columns like z_pred, got {z.shape[1]}")
+    if S_.shape != (T, d, d):
+        raise ValueError(f"S must have shape ({T}, {d}, {d}), got {S_.shape}")
+    if not np.allclose(S_, np.swapaxes(S_, 1, 2)):
+        raise ValueError("S must be symmetric")
+    try:
+        L = np.linalg.cholesky(S_)
+    except np.linalg.LinAlgError as exc:
+        raise ValueError("S must be positive definite") from exc
+    z = z.reshape(-1, d)
+    nu = z[:, None, :] - zp[None, :, :]  # (m, T, d)
+    y = np.linalg.solve(L[None], nu[..., None])[..., 0] if len(z) else nu
+    return np.sum(y * y, axis=-1)
+
+
+def _gauss_density(d2: np.ndarray, S: np.ndarray) -> np.ndarray:
+    d = S.shape[-1]
+    _, logdet = np.linalg.slogdet(S)
+    return np.exp(-0.5 * d2 - 0.5 * (d * np.log(2 * np.pi) + logdet)[None, :])
+
+
+def validation_matrix(measurements: object, z_pred: object, S: object,
+                      gate_prob: float = 0.99) -> np.ndarray:
+    """Binary validation matrix of Sec. II.A, shape ``(m, T + 1)``.
+
+    Column 0 (the false-measurement "target" ``t = 0``) is all ones; entry ``(j, t)``
+    is 1 when measurement ``j`` lies inside the chi-square gate of target ``t``
+    (threshold :func:`gate_threshold`). Fig. 1 of the paper has rows 110, 111, 101.
+    """
+    d2 = mahalanobis_sq(measurements, z_pred, S)
+    dim = np.asarray(z_pred).shape[1]
+    inside = d2 <= gate_threshold(gate_prob, dim)
+    return np.hstack([np.ones((d2.shape[0], 1), dtype=np.int8), inside.astype(np.int8)])
+
+
+def modified_validation_matrix(measurements: object, z_pred: object, S: object,
+                               p_detect: object, gate_prob: float = 0.99,
+                               clutter_density: float = 1.0) -> np.ndarray:
+    """Modified validation matrix (MVM), eqs. (3)-(4), shape ``(m + 1, T)``.
+
+    Row 0 holds ``1 - P_D,t`` (eq. 3); row ``j`` holds ``f_t(z_j) P_D,t / lambda``
+    (eq. 4 divided by the clutter density ``lambda``; the paper's form is
+    ``lambda = 1``) where measurement ``j`` passes target ``t``'s gate, else 0.
+    ``f_t`` is the normal density ``N(z_j; z_hat_t, S_t)``.
+
+    Parameters
+    ----------
+    measurements : array_like, shape (m, d)
+    z_pred : array_like, shape (T, d)
+    S : array_like, shape (T, d, d)
+    p_detect : float or array_like of shape (T,)
+        Detection probabilities ``P_D,t`` in (0, 1].
+    gate_prob : float
+        Gate probability ``P_G`` in (0, 1) that sets the chi-square threshold.
+    clutter_density : float
+        Spatial density ``lambda > 0`` of false measurements.
+    """
+    d2 = mahalanobis_sq(measurements, z_pred, S)
+    S_ = np.asarray(S, dtype=float)
+    T = d2.shape[1]
+    pd = _check_prob(p_detect, "p_detect", T)
+    lam = float(clutter_density)
+    if not np.isfinite(lam) or lam <= 0:
+        raise ValueError(f"clutter_density must be a positive finite number, got {clutter_density}")
+    inside = d2 <= gate_threshold(gate_prob, S_.shape[-1])
+    dens = np.where(inside, _gauss_density(d2, S_), 0.0) if d2.size else d2
+    return np.vstack([1.0 - pd[None, :], dens * pd[None, :] / lam])
+
+
+def mvm_to_validation(mvm: object) -> np.ndarray:
+    """Binary validation matrix ``(m, T + 1)`` of an MVM (Sec. III.A: zeros coincide)."""
+    w = _check_mvm(mvm)
+    return np.hstack([np.ones((w.shape[0] - 1, 1), dtype=np.int8), (w[1:] > 0).astype(np.int8)])
+
+
+def _check_mvm(mvm: object) -> np.ndarray:
+    try:
+        w = np.asarray(mvm, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError("mvm must be a numeric (m + 1, T) array") from exc
+    if w.ndim != 2:
+        raise ValueError(f"mvm must be a 2-D (m + 1, T) array, got shape {w.shape}")
+    if w.shape[0] < 1:
+        raise ValueError("mvm must have a row 0 (holding 1 - P_D,t); got 0 rows")
+    if not np.all(np.isfinite(w)):
+        raise ValueError("mvm must contain only finite values")
+    if np.any(w < 0):
+        raise ValueError("mvm entries must be >= 0 (they are probabilities and densities)")
+    if np.any(w[0] >= 1):
+        raise ValueError(
+            "row 0 of mvm must hold 1 - P_D,t in [0, 1) (P_D,t in (0, 1]); "
+            "was row 0 omitted?")
+    return w
+
+
+# --------------------------------------------------------------------------------------
+# Operation counting (Tables IV-V)
+# --------------------------------------------------------------------------------------
+
+
+@dataclass
+class OpCount:
+    """Additions and multiplications counted by an instrumented beta computation.
+
+    Counting convention (the one that reproduces Tables IV-V of the paper exactly):
+    a sum of ``n`` terms costs ``n - 1`` additions, a product of ``n`` factors
+    ``n - 1`` multiplications; the final normalization (divisions) and eq. (2)
+    are not counted.
+    """
+
+    additions: int = 0
+    multiplications: int = 0
+    detail: dict = field(default_factory=dict)
+
+    def add(self, n_add: int = 0, n_mul: int = 0) -> None:
+        self.additions += int(n_add)
+        self.multiplications += int(n_mul)
+
+    def __str__(self) -> str:
+        return f"{self.additions}/{self.multiplications}"
+
+
+# --------------------------------------------------------------------------------------
+# The conventional method (Secs. II.B-C)
+# --------------------------------------------------------------------------------------
+
+
+def _assignments(w: np.ndarray) -> np.ndarray:
+    """All feasible events as an (n_events, T) array of measurement rows (0 = undetected)."""
+    m1, T = w.shape
+    events = np.zeros((1, 0), dtype=np.int64)
+    for t in range(T):
+        rows = np.flatnonzero(w[:, t] > 0)
+        if rows.size == 0:
+            return np.zeros((0, T), dtype=np.int64)
+        new = []
+        for r in rows:
+            if r == 0:
+                keep = events
+            else:
+                keep = events[~np.any(events == r, axis=1)]
+            if len(keep):
+                new.append(np.hstack([keep, np.full((len(keep), 1), r, dtype=np.int64)]))
+        events = np.vstack(new) if new else np.zeros((0, t + 1), dtype=np.int64)
+    return events
+
+
+def _normalize_columns(w: np.ndarray) -> np.ndarray:
+    """Scale every target column to maximum 1 (beta is invariant: each event uses one entry per column)."""
+    mx = w.max(axis=0) if w.size else np.ones(w.shape[1])
+    return w / np.where(mx > 0, mx, 1.0)
+
+
+def _fail_no_event(w: np.ndarray) -> None:
+    dead = np.flatnonzero(w.max(axis=0, initial=0.0) <= 0)
+    if dead.size:
+        raise ValueError(
+            f"target column(s) {dead.tolist()} of mvm have P_D = 1 (row 0 is 0) and no "
+            "validated measurement: no feasible event has positive probability")
+    raise ValueError("no feasible joint event of mvm has positive probability "
+                     "(targets with P_D = 1 compete for too few measurements)")
+
+
+def beta_enumerated(mvm: object, *, ops: OpCount | None = None) -> np.ndarray:
+    """Association probabilities by enumerating every feasible event (Secs. II.B-C).
+
+    The conventional method: every feasibility matrix of the validation matrix
+    (``mvm > 0``) is generated, its probability is the product of the individual
+    event probabilities (one MVM entry per target), and ``beta[j, t]`` sums the
+    probabilities of the events containing ``chi_{j,t}``, normalized by the sum over
+    all events. Row 0 is eq. (2), ``beta_0t = 1 - sum_j beta_jt``, computed directly
+    as the probability of the events in which target ``t`` is not detected.
+    Cost: the number of feasible events, up to eq. (1) (Table I) times ``T``.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix, eqs. (3)-(4).
+    ops : OpCount, optional
+        If given, counts the operations of the method as in Table IV: ``T - 1``
+        multiplications per feasible event and ``n - 1`` additions for each
+        ``beta_jt`` (``j >= 1``) that sums ``n`` event probabilities.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m + 1, T)
+    """
+    w = _check_mvm(mvm)
+    m1, T = w.shape
+    if T == 0:
+        return np.zeros((m1, 0))
+    wn = _normalize_columns(w)
+    ev = _assignments(wn)
+    if len(ev) == 0:
+        _fail_no_event(w)
+    p = np.prod(wn[ev, np.arange(T)[None, :]], axis=1)
+    Z = p.sum()
+    if not Z > 0:
+        _fail_no_event(w)
+    out = np.zeros((m1, T))
+    for t in range(T):
+        np.add.at(out[:, t], ev[:, t], p)
+    if ops is not None:
+        counts = np.zeros((m1, T), dtype=np.int64)
+        for t in range(T):
+            np.add.at(counts[:, t], ev[:, t], 1)
+        c = counts[1:]
+        ops.add(n_add=int(np.sum(np.maximum(c - 1, 0))), n_mul=len(ev) * (T - 1))
+        ops.detail["events"] = len(ev)
+    return out / Z
+
+
+def feasibility_matrices(mvm: object) -> list[np.ndarray]:
+    """The feasibility matrices ``Omega_i`` of an MVM's validation matrix (Fig. 2)."""
+    return list(iter_feasibility_matrices(mvm_to_validation(mvm)))
+
+
+# --------------------------------------------------------------------------------------
+# The fast algorithm of the paper (Secs. III.B-D): MU words, in-situ vectors, eq. (6)
+# --------------------------------------------------------------------------------------
+
+
+def _popcount(x: np.ndarray) -> np.ndarray:
+    x = np.asarray(x, dtype=np.int64)
+    return np.bitwise_count(x).astype(np.int64)
+
+
+def mu_words(m: int, min_count: int = 0) -> np.ndarray:
+    """Measurements-used (MU) bit words of Table II, in the paper's order.
+
+    Bit ``j - 1`` of a word is set when measurement ``j`` is used (written
+    ``j_m ... j_1`` as in Table II). Words are grouped by decreasing bit count and,
+    within a group, ordered as in Table II (the set not using the highest
+    measurements first), and only bit counts ``>= min_count`` are kept.
+    """
+    m = _check_count(m, "m")
+    min_count = _check_count(min_count, "min_count")
+    if m > 30:
+        raise ValueError(f"m must be <= 30 for MU words, got {m}")
+    w = np.arange(2**m, dtype=np.int64)
+    pc = _popcount(w)
+    keep = w[pc >= min_count]
+    # Table II order: decreasing bit count, then increasing word (0111, 1011, 1101, 1110)
+    order = sorted(keep.tolist(), key=lambda x: (-int(pc[x]), x))
+    return np.asarray(order, dtype=np.int64)
+
+
+def vector_size(m: int, T: int) -> int:
+    """Length of the target vectors of the fast algorithm (Table III).
+
+    ``sum_{j = max(0, m - T + 1)}^{m} C(m, j)``: the words whose bit count is at
+    least ``m - T + 1`` (the other ``T - 1`` targets can use at most ``T - 1``
+    measurements, and eq. (6) needs the words of bit counts ``m`` and ``m - 1``).
+    The lower limit ``max(0, .)`` reproduces Table III; the text prints
+    ``max(1, .)`` (see :func:`vector_size_text_formula`), which drops the empty word
+    and disagrees with the table whenever ``m < T``.
+    """
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    if T == 0:
+        return 0
+    return sum(comb(m, j) for j in range(max(0, m - T + 1), m + 1))
+
+
+def vector_size_text_formula(m: int, T: int) -> int:
+    """The vector length as printed in Sec. III: ``sum_{j=max(1, m-T+1)}^m C(m, j)``."""
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    return sum(comb(m, j) for j in range(max(1, m - T + 1), m + 1))
+
+
+def stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
+                 column: np.ndarray, ops: OpCount | None = None) -> np.ndarray:
+    """One in-situ stage of Sec. III.C: the vector ``T - 1`` from the vector ``T``.
+
+    ``new[w] = p_0 * old[w] + sum_{j in w} p_j * old[w XOR bit_j]`` for every MU word
+    ``w`` of ``words``: the XOR of ``w`` with a word of one fewer bit that leaves a
+    single 1 selects the old element and the MVM entry ``p_j`` that multiplies it
+    (a vector inner product per element, Fig. 4). ``vec`` is indexed like
+    ``prev_words``; ``column`` is the MVM column ``(p_0, p_1, ..., p_m)``.
+    """
+    m = len(column) - 1
+    pos = np.full(2**m, -1, dtype=np.int64)
+    pos[prev_words] = np.arange(len(prev_words))
+    new = column[0] * vec[pos[words]]
+    n_terms = len(words)
+    for j in range(m):
+        bit = 1 << j
+        sel = (words & bit) != 0
+        idx = pos[words[sel] ^ bit]
+        new[sel] += column[j + 1] * vec[idx]
+        n_terms += int(sel.sum())
+    if ops is not None:
+        ops.add(n_add=n_terms - len(words), n_mul=n_terms)
+    return new
+
+
+def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tuple[int, str, str]]:
+    """Table II regenerated: for each MU word of the vector ``e``, the VIP expression.
+
+    Returns ``(word, binary, expression)`` rows in the paper's order, e.g. for
+    ``m = 4`` the word ``1111`` gives ``e0(f1111) + e4(f0111) + e3(f1011) + ...``:
+    the old-vector elements are named by their own MU words, as the XOR rule of
+    Sec. III.C selects them.
+    """
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    rows = []
+    for w in mu_words(m, max(0, m - T + 1)).tolist():
+        terms = [f"{new}0({old}{w:0{m}b})"]
+        for j in range(m, 0, -1):
+            if (w >> (j - 1)) & 1:
+                terms.append(f"{new}{j}({old}{w ^ (1 << (j - 1)):0{m}b})")
+        rows.append((w, f"{w:0{m}b}", " + ".join(terms)))
+    return rows
+
+
+def beta_paper(mvm: object, *, ops: OpCount | None = None,
+               store_intermediates: bool = False) -> np.ndarray:
+    """Association probabilities by the paper's fast algorithm (Secs. III.B-D, Fig. 4).
+
+    For target ``t``, columns 1 and ``t`` of the MVM are interchanged; the vector of
+    the last target (``T``, Sec. III.B: ``f[w] = f_0 + sum_{j in w} f_j`` over MU
+    words ``w`` of bit count ``>= m - T + 1``) is formed, then targets ``T - 1`` down
+    to 2 are folded in by :func:`stage_update` (Sec. III.C; only the bit counts still
+    needed are kept, so the vector shrinks towards bit counts ``m`` and ``m - 1``),
+    and eq. (6) ``beta_{.,t} = A b'`` with ``A = diag(a_0, ..., a_m)`` and
+    ``b' = (b_{1..m}, b_{without m}, ..., b_{without 1})`` gives the unnormalized
+    column. Columns are then normalized (Sec. III.D).
+
+    Complexity: ``O(T^2 m 2^m)`` without stored intermediates (``T`` chains of
+    ``T - 2`` stages over at most ``2^m`` words, ``|w| + 1`` products each).
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+    ops : OpCount, optional
+        Counts additions and multiplications as executed (Table V when
+        ``store_intermediates`` is False).
+    store_intermediates : bool
+        Keep the vectors of target 1's chain and reuse their common suffix in the
+        chains of the other targets (the paper's remark after Table VI).
+    """
+    w = _check_mvm(mvm)
+    m1, T = w.shape
+    m = m1 - 1
+    if m > 24:
+        raise ValueError(f"beta_paper needs 2^m words; m = {m} is too large (use beta)")
+    if T == 0:
+        return np.zeros((m1, 0))
+    wn = _normalize_columns(w)
+    full = (1 << m) - 1
+    out = np.zeros((m1, T))
+    bits = ((np.arange(2**m)[:, None] >> np.arange(m)[None, :]) & 1).astype(float)
+    cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    for t in range(T):
+        cols = list(range(T))
+        cols[0], cols[t] = cols[t], cols[0]
+        if T == 1:
+            vec_words = np.array([full, *[full ^ (1 << j) for j in range(m)]], dtype=np.int64)
+            vec = np.ones(len(vec_words))
+        else:
+            p = T - 1
+            if store_intermediates and t > 0 and p > t:
+                # the suffix of the chain (positions > t) is the same as target 1's
+                while p > t + 1 and p - 1 in cache:
+                    p -= 1
+                vec_words, vec = cache[p]
+            else:
+                vec_words = mu_words(m, max(0, m - p))
+                col = wn[:, cols[p]]
+                vec = col[0] + bits[vec_words] @ col[1:]
+                if ops is not None:
+                    ops.add(n_add=int(_popcount(vec_words).sum()))
+                if store_intermediates and t == 0:
+                    cache[p] = (vec_words, vec)
+            for q in range(p - 1, 0, -1):
+                new_words = mu_words(m, max(0, m - q))
+                vec = stage_update(vec, new_words, vec_words, wn[:, cols[q]], ops)
+                vec_words = new_words
+                if store_intermediates and t == 0:
+                    cache[q] = (vec_words, vec)
+        pos = {int(x): i for i, x in enumerate(vec_words.tolist())}
+        b_prime = np.array([vec[pos[full]]] + [vec[pos[full ^ (1 << j)]] for j in range(m)])
+        out[:, t] = wn[:, cols[0]] * b_prime  # eq. (6)
+        if ops is not None:
+            ops.add(n_mul=m1)
+    Z = out.sum(axis=0)
+    if not np.all(Z > 0):
+        _fail_no_event(w)
+    return out / Z
+
+
+def conventional_op_count(m: int, T: int) -> OpCount:
+    """Operation count of the conventional method for an all-ones validation matrix.
+
+    Closed form of what :func:`beta_enumerated` counts: ``N (T - 1)``
+    multiplications for the ``N`` events of eq. (1), and ``sum_{j,t} (n_jt - 1)``
+    additions where ``n_jt = sum_k C(m-1, k-1) C(T-1, k-1) (k-1)!`` events... computed
+    here exactly as ``(sum over events of detections) - m T``.
+    """
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    N = count_feasible_events(m, T)
+    det = sum(comb(m, k) * comb(T, k) * factorial(k) * k for k in range(1, min(m, T) + 1))
+    return OpCount(additions=det - m * T if m * T else 0, multiplications=N * max(T - 1, 0))
+
+
+def fast_op_count(m: int, T: int, store_intermediates: bool = False) -> OpCount:
+    """Operation count of :func:`beta_paper` (Table V) by running it on an all-ones MVM."""
+    ops = OpCount()
+    mvm = np.vstack([np.full((1, T), 0.5), np.ones((m, T))])
+    beta_paper(mvm, ops=ops, store_intermediates=store_intermediates)
+    return ops
+
+
+# --------------------------------------------------------------------------------------
+# Beyond the paper: exact forward-backward over subsets of min(m, T), clusters
+# --------------------------------------------------------------------------------------
+
+
+_LOW_BITS = 5  # the lowest bits of a subset index are handled by a small dense matrix (BLAS)
+
+
+def _low_matrix(u: float, w: np.ndarray, n_low: int) -> np.ndarray:
+    """Matrix ``M`` of one item restricted to the low bits: ``(x @ M)[S] = u x[S] + sum w_k x[S - k]``."""
+    B = 1 << n_low
+    M = np.eye(B) * u
+    s = np.arange(B)
+    for k in range(n_low):
+        if w[k]:
+            lacks = s[(s >> k) & 1 == 0]
+            M[lacks, lacks | (1 << k)] = w[k]
+    return M
+
+
+def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
+             ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """Sum over partial matchings and its gradient (the engine of :func:`beta_forward_backward`).
+
+    Items ``i`` (rows of ``W``, processed one by one) are either unmatched (weight
+    ``u_i``) or matched to a distinct slot ``k`` (weight ``W[i, k]``); unmatched slots
+    weigh ``v_k``. Returns ``Z``, ``W * dZ/dW``, ``u * dZ/du`` and the vector
+    ``P(slot k unmatched) * Z``. States are subsets of slots (``2^n`` of them).
+    Forward ``F_i[S]`` (slots used exactly ``S`` by items ``<= i``) and backward
+    ``G_i[S]`` (sum over the completions of items ``> i`` avoiding ``S``, the
+    paper's target vectors) give the gradient as inner products
+    ``dZ/dW[i, k] = sum_{S not containing k} F_{i-1}[S] G_i[S + k]``.
+    The lowest ``_LOW_BITS`` bits of every item are applied as one small dense
+    matrix product (BLAS), the others as strided vector updates.
+    """
+    n_it, n = W.shape
+    N = 1 << n
+    nl = min(_LOW_BITS, n)
+    B = 1 << nl
+    rows = N // B
+    F = np.empty((n_it + 1, N))
+    F[0] = 0.0
+    F[0, 0] = 1.0
+    n_mul = n_add = 0
+    high = [np.flatnonzero(W[i, nl:]) + nl for i in range(n_it)]
+    Ms = [_low_matrix(u[i], W[i], nl) for i in range(n_it)]
+    for i in range(n_it):
+        Fi = F[i]
+        new = F[i + 1]
+        np.matmul(Fi.reshape(rows, B), Ms[i], out=new.reshape(rows, B))
+        for k in high[i]:
+            shp = (N >> (k + 1), 2, 1 << k)
+            new.reshape(shp)[:, 1, :] += W[i, k] * Fi.reshape(shp)[:, 0, :]
+        nz = int(np.count_nonzero(W[i]))
+        n_mul += N + nz * (N >> 1)
+        n_add += nz * (N >> 1)
+    # V[S] = prod_{k not in S} v_k
+    V = np.ones(N)
+    for k in range(n):
+        V.reshape(N >> (k + 1), 2, 1 << k)[:, 0, :] *= v[k]
+    FV = F[n_it] * V
+    Z = float(FV.sum())
+    un = np.empty(n)
+    for k in range(n):
+        un[k] = FV.reshape(N >> (k + 1), 2, 1 << k)[:, 0, :].sum()
+    gW = np.zeros_like(W)
+    gu = np.zeros(n_it)
+    G = V
+    Gn = np.empty(N)
+    s = np.arange(B)
+    low_pairs = [(s[(s >> k) & 1 == 0], s[(s >> k) & 1 == 0] | (1 << k)) for k in range(nl)]
+    for i in range(n_it - 1, -1, -1):
+        Fi = F[i]
+        gu[i] = u[i] * float(Fi @ G)
+        C = Fi.reshape(rows, B).T @ G.reshape(rows, B)
+        for k in range(nl):
+            if W[i, k]:
+                gW[i, k] = W[i, k] * float(C[low_pairs[k]].sum())
+        np.matmul(G.reshape(rows, B), Ms[i].T, out=Gn.reshape(rows, B))
+        for k in high[i]:
+            shp = (N >> (k + 1), 2, 1 << k)
+            Gk1 = G.reshape(shp)[:, 1, :]
+            gW[i, k] = W[i, k] * float(np.einsum("ij,ij->", Fi.reshape(shp)[:, 0, :], Gk1))
+            Gn.reshape(shp)[:, 0, :] += W[i, k] * Gk1
+        nz = int(np.count_nonzero(W[i]))
+        n_mul += 2 * N + 2 * nz * (N >> 1)
+        n_add += N + 2 * nz * (N >> 1)
+        G, Gn = Gn, G
+    if ops is not None:
+        ops.add(n_add=n_add, n_mul=n_mul)
+    return Z, gW, gu, un
+
+
+def beta_forward_backward(mvm: object, *, ops: OpCount | None = None) -> np.ndarray:
+    """Exact beta by a forward-backward pass over subsets of ``min(m, T)`` (one cluster).
+
+    The paper's target vectors (Sec. III.C) are the backward messages of a dynamic
+    program over targets whose state is the set of measurements used; storing the
+    forward messages as well gives every ``beta_jt`` as ``a_jt * dZ/da_jt / Z`` in one
+    forward and one backward sweep, instead of one chain per target: the reuse of
+    intermediate vectors the paper alludes to, taken to its end. When ``T < m`` the
+    roles swap (measurements are processed one by one and the state is the set of
+    targets used), so the cost is ``O(max(m, T) min(m, T) 2^min(m, T))`` time and
+    ``O(max(m, T) 2^min(m, T))`` memory.
+    """
+    w = _check_mvm(mvm)
+    m1, T = w.shape
+    m = m1 - 1
+    if T == 0:
+        return np.zeros((m1, 0))
+    if min(m, T) > 26:
+        raise ValueError(f"min(m, T) = {min(m, T)} is too large for exact JPDA (2^min states)")
+    wn = _normalize_columns(w)
+    out = np.zeros((m1, T))
+    if T <= m:
+        # items = measurements (unmatched weight 1), slots = targets (unmatched weight a0_t)
+        Z, gW, gu, un = _fb_core(wn[1:], np.ones(m), wn[0], ops)
+        if not Z > 0:
+            _fail_no_event(w)
+        out[1:] = gW / Z
+        out[0] = un / Z
+    else:
+        # items = targets (unmatched weight a0_t), slots = measurements (weight 1)
+        Z, gW, gu, un = _fb_core(wn[1:].T.copy(), wn[0], np.ones(m), ops)
+        if not Z > 0:
+            _fail_no_event(w)
+        out[1:] = gW.T / Z
+        out[0] = gu / Z
+    return out
+
+
+def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Independent clusters of an MVM: connected components of its validation graph.
+
+    Returns a list of ``(measurements, targets)`` index arrays (measurements numbered
+    1..m as MVM rows). Targets with no validated measurement form singleton
+    clusters with no measurement; measurements validated by no target are dropped.
+    Joint events factor over clusters, so beta can be computed cluster by cluster.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    w = _check_mvm(mvm)
+    m1, T = w.shape
+    m = m1 - 1
+    jj, tt = np.nonzero(w[1:] > 0)
+    n = m + T
+    g = coo_matrix((np.ones(len(jj)), (jj, m + tt)), shape=(n, n))
+    _, lab = connected_components(g, directed=False)
+    out = []
+    for c in np.unique(lab[m:]):
+        meas = np.flatnonzero(lab[:m] == c) + 1
+        targ = np.flatnonzero(lab[m:] == c)
+        out.append((meas, targ))
+    return out
+
+
+def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np.ndarray:
+    """Exact JPDA association probabilities ``beta_jt`` from the MVM (Secs. III.B-D).
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix: row 0 holds ``1 - P_D,t`` (eq. 3), row ``j`` holds
+        ``f_t(z_j) P_D,t`` (eq. 4, optionally divided by the clutter density), zero
+        where measurement ``j`` is not validated for target ``t``.
+    method : {"auto", "forward-backward", "paper", "enumerate"}
+        ``"paper"`` is the algorithm exactly as published (:func:`beta_paper`,
+        ``O(T^2 m 2^m)``); ``"enumerate"`` the conventional method
+        (:func:`beta_enumerated`); ``"forward-backward"`` the single-sweep exact
+        method (:func:`beta_forward_backward`); ``"auto"`` (default) splits the MVM
+        into independent clusters (:func:`clusters`) and runs the forward-backward
+        method on each, iterating over subsets of whichever is smaller of the
+        cluster's measurements and targets.
+    ops : OpCount, optional
+        Operation counter passed to the chosen method.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m + 1, T)
+        ``beta[j, t]``: probability that measurement ``j`` originated from target
+        ``t``; ``beta[0, t] = 1 - sum_j beta[j, t]`` (eq. 2) the probability that target
+        ``t`` was not detected. Every column sums to 1.
+
+    Notes
+    -----
+    Complexity of ``"auto"``: ``O(sum_c max(m_c, T_c) min(m_c, T_c) 2^min(m_c, T_c))``
+    over clusters ``c``; exact JPDA is #P-hard, so exponential in ``min(m, T)`` for a
+    fully gated problem. Fully gated ``m = T = 16`` takes a few hundredths of a
+    second and ``m = T = 20`` about a second on a 2-core machine
+    (``benchmarks/bench_jpda.py``).
+    """
+    if method == "paper":
+        return beta_paper(mvm, ops=ops)
+    if method == "enumerate":
+        return beta_enumerated(mvm, ops=ops)
+    if method == "forward-backward":
+        return beta_forward_backward(mvm, ops=ops)
+    if method != "auto":
+        raise ValueError(
+            f"method must be 'auto', 'forward-backward', 'paper' or 'enumerate', got {method!r}")
+    w = _check_mvm(mvm)
+    m1, T = w.shape
+    out = np.zeros((m1, T))
+    for meas, targ in clusters(w):
+        if meas.size == 0:
+            if np.any(w[0, targ] <= 0):
+                _fail_no_event(w[:, targ])
+            out[0, targ] = 1.0
+            continue
+        sub = w[np.r_[0, meas]][:, targ]
+        b = beta_forward_backward(sub, ops=ops)
+        out[np.ix_(np.r_[0, meas], targ)] = b
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Fig. 5: frequency-multiplexed vector-inner-product processor (numerical model)
+# --------------------------------------------------------------------------------------
+
+
+def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
+    """Time schedule of the Fig. 5 processor for one stage (vector ``q + 1`` to ``q``).
+
+    Every product ``p_j * t_n`` of a stage is one (time slot, laser diode, AO1 cell,
+    detector) event: at each time slot the laser diodes (P1) of the old vector
+    elements ``t_n`` are pulsed, AO1 (P2) holds the MVM column ``p``, and the LFM
+    chirp in AO2 (P3) steers the product to the detector of the new element. Time
+    slot ``s`` handles the products with AO1 cell ``s`` (``p_s``), so each detector
+    receives at most one product per slot and accumulates (integrates) over slots.
+
+    Returns an int array with columns ``(slot, diode, ao1_cell, detector)`` where
+    diode/detector index the old/new word lists of :func:`mu_words` with bit counts
+    ``>= m - q - 1`` / ``>= m - q``.
+    """
+    new_words = mu_words(m, max(0, m - q))
+    old_words = mu_words(m, max(0, m - q - 1))
+    pos = np.full(2**m, -1, dtype=np.int64)
+    pos[old_words] = np.arange(len(old_words))
+    rows = [np.column_stack([np.zeros(len(new_words), dtype=np.int64), pos[new_words],
+                             np.zeros(len(new_words), dtype=np.int64), np.arange(len(new_words))])]
+    for j in range(1, m + 1):
+        bit = 1 << (j - 1)
+        det = np.flatnonzero(new_words & bit)
+        rows.append(np.column_stack([np.full(len(det), j), pos[new_words[det] ^ bit],
+                                     np.full(len(det), j), det]))
+    return np.vstack(rows)
+
+
+def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
+                      n_out: int, *, noise_std: float = 0.0,
+                      rng: np.random.Generator | None = None) -> np.ndarray:
+    """Simulate Fig. 5: space-integrated products time-integrated on the P3 detectors.
+
+    Each schedule row multiplies the laser-diode amplitude ``vec[diode]`` (P1) by the
+    AO1 transmittance ``column[cell]`` (P2), and the chirp routes the product to
+    ``detector``; detectors integrate over the time slots. With ``noise_std > 0``
+    each detector reading gets additive Gaussian noise (analog accuracy), drawn from
+    ``rng``.
+    """
+    vec = np.asarray(vec, dtype=float)
+    column = np.asarray(column, dtype=float)
+    out = np.zeros(n_out)
+    for s in np.unique(schedule[:, 0]):
+        r = schedule[schedule[:, 0] == s]
+        # within one slot every detector receives at most one product
+        out[r[:, 3]] += vec[r[:, 1]] * column[r[:, 2]]
+    if noise_std > 0:
+        if rng is None:
+            raise ValueError("rng is required when noise_std > 0")
+        out = out + rng.normal(0.0, noise_std, n_out)
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Trackers
+# --------------------------------------------------------------------------------------
+
+
+class _KFBank:
+    def __init__(self, x0, P0, F, Q, H, R):
+        from filterpy.kalman import KalmanFilter
+
+        x0 = _as_float_array(x0, "x0", 2)
+        F_ = _as_float_array(F, "F", 2)
+        H_ = _as_float_array(H, "H", 2)
+        n = x0.shape[1]
+        if F_.shape != (n, n):
+            raise ValueError(f"F must have shape ({n}, {n}), got {F_.shape}")
+        if H_.shape[1] != n:
+            raise ValueError(f"H must have {n} columns, got shape {H_.shape}")
+        d = H_.shape[0]
+        P0_ = _as_float_array(P0, "P0", 2)
+        Q_ = _as_float_array(Q, "Q", 2)
+        R_ = _as_float_array(R, "R", 2)
+        for name, M, k in (("P0", P0_, n), ("Q", Q_, n), ("R", R_, d)):
+            if M.shape != (k, k):
+                raise ValueError(f"{name} must have shape ({k}, {k}), got {M.shape}")
+        self.filters = []
+        for x in x0:
+            kf = KalmanFilter(dim_x=n, dim_z=d)
+            kf.x = x.reshape(n, 1).copy()
+            kf.P = P0_.copy()
+            kf.F = F_.copy()
+            kf.Q = Q_.copy()
+            kf.H = H_.copy()
+            kf.R = R_.copy()
+            self.filters.append(kf)
+        self.d = d
+
+    def predict(self):
+        zp, S = [], []
+        for kf in self.filters:
+            kf.predict()
+            zp.append((kf.H @ kf.x).ravel())
+            S.append(kf.H @ kf.P @ kf.H.T + kf.R)
+        return np.array(zp).reshape(-1, self.d), np.array(S).reshape(-1, self.d, self.d)
+
+    @property
+    def states(self) -> np.ndarray:
+        return np.array([kf.x.ravel() for kf in self.filters])
+
+
+class JPDATracker:
+    """JPDA tracker: per-target ``filterpy`` Kalman filters with beta-weighted updates.
+
+    Each step predicts every target, builds the MVM (:func:`modified_validation_matrix`
+    with row 0 = ``1 - P_D P_G`` and rows ``P_D N(z_j; z_hat_t, S_t) / lambda``
+    inside the gate), computes ``beta`` and updates each target with the combined
+    innovation ``nu_t = sum_j beta_jt nu_jt``::
+
+        x = x + K nu_t
+        P = beta_0t P_pred + (1 - beta_0t) (I - K H) P_pred
+            + K (sum_j beta_jt nu_jt nu_jt^T - nu_t nu_t^T) K^T
+
+    the last term being the spread of the innovations (Fortmann, Bar-Shalom & Scheffe
+    1983). The paper treats these covariance and state updates as standard (Sec. II).
+
+    Parameters
+    ----------
+    x0 : array_like, shape (T, n)
+        Initial states (track initiation is not part of JPDA, chapter 3 does it).
+    P0, F, Q, H, R : array_like
+        Initial covariance, transition, process noise, measurement and noise matrices.
+    p_detect : float
+        ``P_D`` in (0, 1].
+    clutter_density : float
+        Spatial density ``lambda`` of false measurements (> 0).
+    gate_prob : float
+        Gate probability ``P_G`` in (0, 1).
+    """
+
+    def __init__(self, x0, P0, F, Q, H, R, p_detect: float = 0.9,
+                 clutter_density: float = 1e-3, gate_prob: float = 0.99):
+        self.bank = _KFBank(x0, P0, F, Q, H, R)
+        self.p_detect = float(_check_prob(p_detect, "p_detect", 1)[0])
+        lam = float(clutter_density)
+        if not np.isfinite(lam) or lam <= 0:
+            raise ValueError(f"clutter_density must be positive, got {clutter_density}")
+        self.clutter_density = lam
+        self.gate_prob = float(gate_prob)
+        gate_threshold(self.gate_prob, self.bank.d)
+        self.last_beta_: np.ndarray | None = None
+
+    def step(self, measurements: object) -> np.ndarray:
+        """Predict, associate and update with one scan of measurements ``(m, d)``; returns states."""
+        z = np.asarray(measurements, dtype=float).reshape(-1, self.bank.d)
+        if not np.all(np.isfinite(z)):
+            raise ValueError("measurements must be finite")
+        zp, S = self.bank.predict()
+        T = len(zp)
+        mvm = modified_validation_matrix(z, zp, S, self.p_detect, self.gate_prob,
+                                         self.clutter_density)
+        mvm[0] = 1.0 - self.p_detect * self.gate_prob
+        b = beta(mvm)
+        self.last_beta_ = b
+        for t, kf in enumerate(self.bank.filters):
+            nu_j = z - zp[t][None, :]
+            bj = b[1:, t]
+            nu = bj @ nu_j
+            Si = np.linalg.inv(S[t])
+            K = kf.P @ kf.H.T @ Si
+            spread = (nu_j * bj[:, None]).T @ nu_j - np.outer(nu, nu)
+            Pc = (np.eye(kf.P.shape[0]) - K @ kf.H) @ kf.P
+            kf.x = kf.x + K @ nu.reshape(-1, 1)
+            P = b[0, t] * kf.P + (1 - b[0, t]) * Pc + K @ spread @ K.T
+            kf.P = 0.5 * (P + P.T)
+        return self.bank.states
+
+
+class GNNTracker:
+    """Global nearest neighbour tracker (a baseline for :class:`JPDATracker`).
+
+    Each scan, measurements are assigned one-to-one to targets by
+    ``scipy.optimize.linear_sum_assignment`` on the squared Mahalanobis distance, with a dummy "no measurement" option at the gate threshold; each
+    target is updated with its assigned measurement (standard Kalman update) or only
+    predicted. Same parameters as :class:`JPDATracker` (``P_D``, ``lambda`` unused).
+    """
+
+    def __init__(self, x0, P0, F, Q, H, R, gate_prob: float = 0.99):
+        self.bank = _KFBank(x0, P0, F, Q, H, R)
+        self.gate = gate_threshold(gate_prob, self.bank.d)
+
+    def step(self, measurements: object) -> np.ndarray:
+        """Predict, assign and update with one scan ``(m, d)``; returns the states."""
+        from scipy.optimize import linear_sum_assignment
+
+        z = np.asarray(measurements, dtype=float).reshape(-1, self.bank.d)
+        if not np.all(np.isfinite(z)):
+            raise ValueError("measurements must be finite")
+        zp, S = self.bank.predict()
+        T, m = len(zp), len(z)
+        if m:
+            d2 = mahalanobis_sq(z, zp, S).T  # (T, m)
+            big = 1e12
+            cost = np.where(d2 <= self.gate, d2, big)
+            dummy = np.full((T, T), big)
+            np.fill_diagonal(dummy, self.gate)
+            r, c = linear_sum_assignment(np.hstack([cost, dummy]))
+            for t, j in zip(r, c):
+                if j < m and cost[t, j] < big:
+                    self.bank.filters[t].update(z[j].reshape(-1, 1))
+        return self.bank.states

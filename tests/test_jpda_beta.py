@@ -1,0 +1,234 @@
+"""Beta of the JPDA chapter: fast (paper, forward-backward, clustered) versus enumeration."""
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from projtrack import jpda
+
+
+def _brute_beta(w):
+    """Oracle: loop over every assignment target -> {0 (undetected), distinct measurement}."""
+    m1, T = w.shape
+    out = np.zeros((m1, T))
+    Z = 0.0
+    for a in itertools.product(range(m1), repeat=T):
+        used = [r for r in a if r]
+        if len(used) != len(set(used)):
+            continue
+        p = np.prod([w[r, t] for t, r in enumerate(a)])
+        Z += p
+        for t, r in enumerate(a):
+            out[r, t] += p
+    return out / Z
+
+
+@st.composite
+def mvms(draw, max_m=7, max_T=7):
+    m = draw(st.integers(0, max_m))
+    T = draw(st.integers(1, max_T))
+    seed = draw(st.integers(0, 2**32 - 1))
+    density = draw(st.floats(0.1, 1.0))
+    rng = np.random.default_rng(seed)
+    w = rng.uniform(0.01, 1.0, (m + 1, T)) * (rng.random((m + 1, T)) < density)
+    w[0] = rng.uniform(0.0, 0.95, T)
+    w[0, w[1:].sum(axis=0) == 0] += 0.01  # every target needs a positive-probability event
+    return w
+
+
+def test_small_examples_against_brute_force():
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        m, T = rng.integers(0, 5), rng.integers(1, 5)
+        w = rng.uniform(0.05, 1, (m + 1, T)) * (rng.random((m + 1, T)) < 0.7)
+        w[0] = rng.uniform(0.05, 0.9, T)
+        ref = _brute_beta(w)
+        for f in (jpda.beta, jpda.beta_enumerated, jpda.beta_paper, jpda.beta_forward_backward):
+            np.testing.assert_allclose(f(w), ref, atol=1e-13)
+
+
+@settings(max_examples=120, deadline=None)
+@given(mvms())
+def test_fast_equals_enumerated(w):
+    ref = jpda.beta_enumerated(w)
+    for method in ("auto", "forward-backward", "paper"):
+        np.testing.assert_allclose(jpda.beta(w, method=method), ref, atol=1e-12, rtol=1e-10)
+    np.testing.assert_allclose(jpda.beta_paper(w, store_intermediates=True), ref, atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(mvms(), st.integers(0, 2**32 - 1))
+def test_columns_sum_to_one_and_permutation_invariance(w, seed):
+    b = jpda.beta(w)
+    np.testing.assert_allclose(b.sum(axis=0), 1.0, atol=1e-12)
+    assert np.all(b >= -1e-15)
+    assert np.all(b[1:][w[1:] == 0] == 0)  # beta_jt = 0 outside the gate
+    rng = np.random.default_rng(seed)
+    pm = np.r_[0, 1 + rng.permutation(w.shape[0] - 1)]
+    pt = rng.permutation(w.shape[1])
+    np.testing.assert_allclose(jpda.beta(w[pm][:, pt]), b[pm][:, pt], atol=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(mvms(max_m=6, max_T=6), st.floats(0.01, 100.0))
+def test_column_scaling_invariance(w, c):
+    w2 = w.copy()
+    w2[1:, 0] *= c  # scaling a whole column leaves beta unchanged ...
+    w2[0, 0] *= c
+    if w2[0, 0] >= 1:
+        return
+    np.testing.assert_allclose(jpda.beta(w2), jpda.beta(w), atol=1e-12)
+
+
+def test_target_without_validated_measurement_is_undetected():
+    w = np.array([[0.1, 0.3, 0.2], [0.5, 0.0, 0.4], [0.2, 0.0, 0.0]])
+    for method in ("auto", "forward-backward", "paper", "enumerate"):
+        b = jpda.beta(w, method=method)
+        assert b[0, 1] == pytest.approx(1.0, abs=1e-15)
+        assert np.all(b[1:, 1] == 0)
+
+
+def test_single_target_is_pda():
+    w = np.array([[0.2], [0.3], [0.5]])
+    np.testing.assert_allclose(jpda.beta(w)[:, 0], w[:, 0] / w.sum())
+
+
+def test_no_measurements_and_no_targets():
+    np.testing.assert_array_equal(jpda.beta(np.array([[0.1, 0.4]])), [[1.0, 1.0]])
+    assert jpda.beta(np.zeros((3, 0))).shape == (3, 0)
+    assert jpda.beta_enumerated(np.zeros((3, 0))).shape == (3, 0)
+
+
+def test_larger_clustered_problem_matches_paper_method():
+    rng = np.random.default_rng(5)
+    # two blocks of 6 x 5 and 4 x 6 plus an isolated target: exercises clusters and
+    # the high-bit (strided) path of the forward-backward sweep
+    w = np.zeros((11, 12))
+    w[1:7, :5] = rng.uniform(0.1, 1, (6, 5))
+    w[7:11, 5:11] = rng.uniform(0.1, 1, (4, 6))
+    w[0] = rng.uniform(0.05, 0.5, 12)
+    assert len(jpda.clusters(w)) == 3
+    np.testing.assert_allclose(jpda.beta(w), jpda.beta_paper(w), atol=1e-12)
+    w9 = np.vstack([rng.uniform(0.05, 0.5, (1, 9)), rng.uniform(0, 1, (10, 9))])
+    np.testing.assert_allclose(jpda.beta_forward_backward(w9), jpda.beta_paper(w9), atol=1e-12)
+    np.testing.assert_allclose(jpda.beta_forward_backward(w9.T[:, :9].T[:8]),
+                               jpda.beta_paper(w9.T[:, :9].T[:8]), atol=1e-12)
+
+
+def test_p_detect_one_is_allowed_when_feasible():
+    w = np.array([[0.0, 0.3], [0.5, 0.2], [0.1, 0.0]])
+    np.testing.assert_allclose(jpda.beta(w), jpda.beta_enumerated(w), atol=1e-14)
+    assert jpda.beta(w)[0, 0] == 0
+
+
+@pytest.mark.parametrize("bad,msg", [
+    (np.array([[0.1, -0.2], [0.3, 0.4]]), ">= 0"),
+    (np.array([[0.1, np.nan], [0.3, 0.4]]), "finite"),
+    (np.array([[0.1, np.inf], [0.3, 0.4]]), "finite"),
+    (np.array([[1.2, 0.1], [0.3, 0.4]]), "row 0"),
+    (np.array([[3.0, 2.0], [0.3, 0.4]]), "row 0 omitted"),
+    (np.ones(3) * 0.1, "2-D"),
+    (np.zeros((0, 2)), "row 0"),
+    (np.array([["a", "b"]]), "numeric"),
+])
+@pytest.mark.parametrize("f", [jpda.beta, jpda.beta_enumerated, jpda.beta_paper,
+                               jpda.beta_forward_backward, jpda.clusters])
+def test_bad_mvm(bad, msg, f):
+    with pytest.raises((ValueError, TypeError), match=msg):
+        f(bad)
+
+
+def test_infeasible_mvm_raises():
+    with pytest.raises(ValueError, match="no validated measurement"):
+        jpda.beta(np.array([[0.0, 0.5], [0.0, 0.3]]))
+    two_certain_one_meas = np.array([[0.0, 0.0], [0.5, 0.5]])
+    for f in (jpda.beta, jpda.beta_enumerated, jpda.beta_paper, jpda.beta_forward_backward):
+        with pytest.raises(ValueError, match="feasible"):
+            f(two_certain_one_meas)
+    with pytest.raises(ValueError, match="method"):
+        jpda.beta(np.array([[0.5]]), method="magic")
+
+
+# --- Tables II-VI ---------------------------------------------------------------------
+
+TABLE_III = {3: [7, 8, 8, 8, 8], 4: [11, 15, 16, 16, 16], 5: [16, 26, 31, 32, 32],
+             6: [22, 42, 57, 63, 64], 7: [29, 64, 99, 120, 127]}
+
+
+def test_table3_vector_sizes():
+    for m, row in TABLE_III.items():
+        assert [jpda.vector_size(m, T) for T in range(3, 8)] == row
+    # the printed max(1, .) formula differs exactly where m < T
+    assert jpda.vector_size_text_formula(3, 4) == 7 != jpda.vector_size(3, 4)
+    assert jpda.vector_size_text_formula(5, 3) == jpda.vector_size(5, 3)
+
+
+def test_table2_words_and_expressions():
+    rows = jpda.stage_expressions(4, 6)
+    assert [r[1] for r in rows] == ["1111", "0111", "1011", "1101", "1110", "0011", "0101",
+                                    "0110", "1001", "1010", "1100", "0001", "0010", "0100",
+                                    "1000", "0000"]
+    assert rows[0][2] == "e0(f1111) + e4(f0111) + e3(f1011) + e2(f1101) + e1(f1110)"
+    assert rows[-1][2] == "e0(f0000)"
+
+
+# Table IV prints 5200/8148 for m = T = 5; Table VI's savings factor there (5.9) implies
+# 1045 * 5.9 = 6184 multiplications, the value every other cell's rule N (T - 1) gives.
+TABLE_IV = {(3, 3): (54, 68), (3, 7): (882, 2148), (5, 5): (5200, 6184),
+            (7, 3): (882, 716), (6, 7): (170100, 225798), (7, 7): (652974, 785532)}
+TABLE_V = {(3, 3): (63, 51), (3, 7): (483, 672), (5, 5): (1175, 1045),
+           (7, 3): (609, 195), (6, 7): (6006, 6048), (7, 7): (12495, 11655)}
+
+
+@pytest.mark.parametrize("mT", list(TABLE_IV))
+def test_tables4_5_operation_counts(mT):
+    m, T = mT
+    ops = jpda.OpCount()
+    mvm = np.vstack([np.full((1, T), 0.5), np.ones((m, T))])
+    if m * T <= 36:
+        jpda.beta_enumerated(mvm, ops=ops)
+        assert (ops.additions, ops.multiplications) == TABLE_IV[mT]
+    c = jpda.conventional_op_count(m, T)
+    assert (c.additions, c.multiplications) == TABLE_IV[mT]
+    f = jpda.fast_op_count(m, T)
+    assert (f.additions, f.multiplications) == TABLE_V[mT]
+
+
+def test_stored_intermediates_save_more_than_110_multiplications():
+    c = jpda.conventional_op_count(7, 7)
+    s = jpda.fast_op_count(7, 7, store_intermediates=True)
+    assert c.multiplications / s.multiplications > 110
+
+
+def test_mu_words_and_sizes_bad_inputs():
+    with pytest.raises(TypeError):
+        jpda.vector_size(2.5, 3)
+    with pytest.raises(ValueError):
+        jpda.mu_words(-1)
+    with pytest.raises(ValueError):
+        jpda.mu_words(40)
+
+
+# --- Fig. 5 ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("m,T,q", [(4, 6, 4), (4, 6, 2), (5, 3, 1), (3, 3, 1)])
+def test_optical_processor_equals_direct_stage(m, T, q):
+    rng = np.random.default_rng(m * 10 + q)
+    old_words = jpda.mu_words(m, max(0, m - q - 1))
+    new_words = jpda.mu_words(m, max(0, m - q))
+    vec = rng.random(len(old_words))
+    col = rng.random(m + 1)
+    sched = jpda.optical_vip_schedule(m, T, q)
+    # one product per detector per time slot (frequency multiplexing)
+    for s in np.unique(sched[:, 0]):
+        d = sched[sched[:, 0] == s, 3]
+        assert len(d) == len(np.unique(d))
+    direct = jpda.stage_update(vec, new_words, old_words, col)
+    optical = jpda.optical_vip_stage(vec, col, sched, len(new_words))
+    np.testing.assert_allclose(optical, direct, rtol=1e-14)
+    with pytest.raises(ValueError, match="rng"):
+        jpda.optical_vip_stage(vec, col, sched, len(new_words), noise_std=0.1)
