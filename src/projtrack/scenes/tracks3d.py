@@ -1,0 +1,158 @@
+"""Straight 3-D target tracks for the neural-net tracker (Barnard & Casasent, Sec. VI).
+
+Chapter 5 of Casasent's 1989 report simulates ``N_T`` targets moving on straight,
+constant-velocity tracks through ``N_P`` equally spaced time steps in a
+``256 x 256 x 256`` space whose origin is the centre of the cube. The paper describes the
+data only in words; :func:`make_tracks` follows that description:
+
+* the target headings (in the x-y projection) are evenly spread over 360 degrees,
+  ``phi_i = phi_0 + 2 pi i / N_T`` with a random ``phi_0``;
+* the lengths of the tracks' x-y projections are uniform between ``max_length / 5`` and
+  ``max_length`` (the paper's 5:1 ratio), with ``max_length = 0.7`` of the field (the
+  longest track "occupying approximately 70% of the field of view");
+* the z extent of each track, which the paper does not give, is uniform in
+  ``[-z_ratio, z_ratio]`` times its x-y length (``z_ratio = 0.5``);
+* each start point is uniform over the positions for which the whole track stays in the
+  cube;
+* measurement noise: "a uniformly distributed random number ... at most n% of its
+  distance from the origin": every position ``r`` is moved by a vector uniform in the
+  ball of radius ``n/100 * |r|``.
+
+Measurements of each frame are put in random order (``shuffle=True``); ``labels`` says
+which target produced each one. Nothing here was tuned to any result of the paper.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["TrackScene", "make_tracks", "perturb"]
+
+
+@dataclass(frozen=True)
+class TrackScene:
+    """Synthetic measurements of straight 3-D tracks.
+
+    Attributes
+    ----------
+    truth : ndarray, shape (n_frames, n_targets, 3)
+        Noise-free positions, target ``i`` in row ``i`` of each frame (pixel units,
+        origin at the centre of the cube).
+    positions : ndarray, shape (n_frames, n_targets, 3)
+        The measurements, in the (possibly shuffled) order of each frame.
+    labels : ndarray of int, shape (n_frames, n_targets)
+        ``labels[a, alpha]`` is the target that produced measurement ``alpha`` of frame ``a``.
+    field : float
+        Side of the cube (256 in the paper).
+    """
+
+    truth: np.ndarray
+    positions: np.ndarray
+    labels: np.ndarray
+    field: float
+
+
+def _check_rng(rng: object) -> np.random.Generator:
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    return rng
+
+
+def perturb(rng: np.random.Generator, positions: np.ndarray, noise_percent: float) -> np.ndarray:
+    """Move every position by a vector uniform in the ball of radius ``n% * |r|``.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of randomness.
+    positions : array_like, shape (..., 3)
+        Positions relative to the centre of the space.
+    noise_percent : float
+        ``n`` in percent, >= 0.
+
+    Returns
+    -------
+    ndarray
+        Perturbed positions, same shape.
+    """
+    _check_rng(rng)
+    r = np.asarray(positions, dtype=float)
+    if r.ndim < 1 or r.shape[-1] < 1:
+        raise ValueError(f"positions must have shape (..., dim), got {r.shape}")
+    if not np.all(np.isfinite(r)):
+        raise ValueError("positions must be finite")
+    if not np.isfinite(noise_percent) or noise_percent < 0:
+        raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
+    dim = r.shape[-1]
+    direction = rng.standard_normal(r.shape)
+    direction /= np.linalg.norm(direction, axis=-1, keepdims=True)
+    radius = rng.random(r.shape[:-1] + (1,)) ** (1.0 / dim)
+    scale = noise_percent / 100.0 * np.linalg.norm(r, axis=-1, keepdims=True)
+    return r + scale * radius * direction
+
+
+def make_tracks(rng: np.random.Generator, n_targets: int = 4, n_frames: int = 5, *,
+                noise_percent: float = 0.0, field: float = 256.0, max_length: float = 0.7,
+                length_ratio: float = 5.0, z_ratio: float = 0.5,
+                shuffle: bool = True) -> TrackScene:
+    """Generate one data set of straight constant-velocity tracks (Sec. VI of the paper).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of randomness.
+    n_targets : int, default 4
+        ``N_T`` (the paper: 4).
+    n_frames : int, default 5
+        ``N_P`` equally spaced time steps (the paper: 5), >= 2.
+    noise_percent : float, default 0
+        ``n``: each measurement moves by at most ``n%`` of its distance from the centre.
+    field : float, default 256
+        Side of the cube; coordinates lie in ``[-field/2, field/2]``.
+    max_length : float, default 0.7
+        Longest x-y track length as a fraction of ``field``.
+    length_ratio : float, default 5
+        Ratio of the longest to the shortest x-y track length.
+    z_ratio : float, default 0.5
+        Largest z extent of a track relative to its x-y length.
+    shuffle : bool, default True
+        Randomly order the measurements of each frame.
+
+    Returns
+    -------
+    TrackScene
+    """
+    _check_rng(rng)
+    for name, value in (("n_targets", n_targets), ("n_frames", n_frames)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if n_targets < 1:
+        raise ValueError(f"n_targets must be >= 1, got {n_targets}")
+    if n_frames < 2:
+        raise ValueError(f"n_frames must be >= 2, got {n_frames}")
+    if not (np.isfinite(field) and field > 0):
+        raise ValueError(f"field must be > 0, got {field}")
+    if not (0 < max_length <= 1):
+        raise ValueError(f"max_length must be in (0, 1], got {max_length}")
+    if not (length_ratio >= 1):
+        raise ValueError(f"length_ratio must be >= 1, got {length_ratio}")
+    if not (z_ratio >= 0) or z_ratio * max_length > 1:
+        raise ValueError(f"z_ratio must be >= 0 and keep tracks inside the cube, got {z_ratio}")
+    phi = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n_targets) / n_targets
+    length = field * max_length * rng.uniform(1.0 / length_ratio, 1.0, n_targets)
+    dz = length * rng.uniform(-z_ratio, z_ratio, n_targets)
+    extent = np.stack([length * np.cos(phi), length * np.sin(phi), dz], axis=1)  # (N_T, 3)
+    half = field / 2.0
+    lo = -half - np.minimum(extent, 0.0)
+    hi = half - np.maximum(extent, 0.0)
+    start = lo + (hi - lo) * rng.random((n_targets, 3))
+    t = np.linspace(0.0, 1.0, n_frames)
+    truth = start[None, :, :] + t[:, None, None] * extent[None, :, :]
+    noisy = perturb(rng, truth, noise_percent) if noise_percent > 0 else truth.copy()
+    labels = np.tile(np.arange(n_targets), (n_frames, 1))
+    if shuffle:
+        labels = np.stack([rng.permutation(n_targets) for _ in range(n_frames)])
+    positions = np.take_along_axis(noisy, labels[:, :, None], axis=1)
+    return TrackScene(truth=truth, positions=positions, labels=labels, field=float(field))
