@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["X26", "paper_projections", "lognormal_noise", "snr_static", "snr_dynamic", "periodic_drive",
+__all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "periodic_drive",
            "random_ellipsoid", "random_projection", "rotation"]
 
 #: The underlying ellipse of eq. (26) of KVW: semi-axes 2 and 1, major axis at pi/4.
@@ -126,3 +126,52 @@ def random_projection(n: int, m: int, rng: np.random.Generator) -> np.ndarray:
         raise ValueError("need 1 <= m <= n")
     Q, R = np.linalg.qr(rng.normal(size=(n, m)))
     return Q * np.sign(np.diag(R))
+
+
+def static_observations(variance: float, rng: np.random.Generator, X: np.ndarray | None = None,
+                        q: int = 5) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    """One draw of the static experiment of Sec. 7.1 of KVW.
+
+    Ideal squared supports ``c_k = C_k^T X C_k`` of ``X`` (default eq. 26) in the ``q``
+    directions of :func:`paper_projections`, perturbed by :func:`lognormal_noise`.
+
+    Returns
+    -------
+    ideal : ndarray (q,)
+    W : ndarray (q,)
+        The perturbations drawn.
+    Ys : list of (1, 1) arrays
+        The observations ``c_k + W_k``.
+    Cs : list of (2, 1) arrays
+    """
+    X = X26 if X is None else np.asarray(X, float)
+    Cs = paper_projections(q)
+    ideal = np.array([float(C[:, 0] @ X @ C[:, 0]) for C in Cs])
+    W = lognormal_noise(ideal, variance, rng)
+    return ideal, W, [np.array([[v]]) for v in ideal + W], Cs
+
+
+def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: float = 4.0,
+                       tau: float = 0.8, alpha: float = 0.9, psi: float = 0.0, phi: float = np.pi / 15) -> dict:
+    """The dynamic ellipse of Sec. 7.2 of KVW and its noisy single-view observations.
+
+    ``X_0`` is eq. (26), ``A_k = A(tau, alpha, psi, phi)`` of eq. (23) (imported lazily from
+    :mod:`projtrack.ellipsoids`), ``B_k`` from :func:`periodic_drive`, ``C_k = [1, 0]^T``
+    and log-normal noise of the given variance on ``C_k^T X_k C_k``.
+
+    Returns
+    -------
+    dict with keys ``A`` (2x2), ``As`` (list), ``Bs`` (n_steps-1, 2, 2), ``Xs``
+    (n_steps, 2, 2), ``C``, ``Cs`` (list), ``ideal``, ``W``, ``Ys`` (list of 1x1).
+    """
+    from projtrack import ellipsoids as E
+
+    A = E.shaping_matrix(tau, alpha, psi, phi)
+    Bs = periodic_drive(n_steps - 1)
+    As = [A] * (n_steps - 1)
+    Xs = E.simulate(X26, As, Bs)
+    C = np.array([[1.0], [0.0]])
+    ideal = Xs[:, 0, 0].copy()
+    W = lognormal_noise(ideal, variance, rng)
+    return {"A": A, "As": As, "Bs": Bs, "Xs": Xs, "C": C, "Cs": [C] * n_steps, "ideal": ideal, "W": W,
+            "Ys": [np.array([[v]]) for v in ideal + W]}
