@@ -1,0 +1,238 @@
+"""Binary upper-case letters on a 32 x 32 grid, for Casasent & Song's projection correlations.
+
+Chapter 2 of Casasent's 1989 report (D. Casasent and J.-H. Song, "Optical projection
+correlations", Appl. Opt. 27, 1988), Sec. III.A, tests its correlators on "the 26
+upper-case letters in the Times font ... digitized to 32 x 32 binary pixels. Most letters
+occupied the central 10 x 10 pixels and had 40-75 nonzero pixels and all letters had
+less than 110 nonzero pixels". The original bitmaps were not published. This module
+synthesizes stand-ins from the Times-like STIX font that matplotlib ships
+(``STIXGeneral.ttf``; nothing is downloaded), with one size rule for all letters:
+
+* the glyph outline is scaled so that the font's **cap height** (the height of ``H``)
+  is ``cap_height`` pixels (default 10, the "central 10 x 10 pixels" of the text);
+* each glyph's bounding box is centred on the centre of the frame;
+* a pixel is on when at least a fraction ``min_coverage`` of its area lies inside the
+  glyph, measured by ``supersample x supersample`` point sampling of the pixel.
+
+The pair (``cap_height``, ``min_coverage``) is chosen once for all letters by
+:func:`choose_rule` from the text's description alone: over the small grid
+``cap_height`` in {10, 11, 12} (the "central 10 x 10" to 12 x 12 pixels) and
+``min_coverage`` in {1/2, 1/4, any sub-sample}, take the rule that puts the most letters
+in the 40-75 on-pixel range with every letter under 110, ties going to the smallest
+cap height (the text's "central 10 x 10"). The result, cap height 10 with a pixel on as
+soon as the glyph touches it (``min_coverage = 1/64``), is the default. No letter is
+adjusted individually; glyphs wider than tall (``M``, ``W``) extend a little beyond 10
+columns, as in any Times font.
+"""
+
+from __future__ import annotations
+
+import string
+from functools import lru_cache
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+from matplotlib.font_manager import FontProperties
+from matplotlib.path import Path as MplPath
+from matplotlib.textpath import TextPath
+
+__all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "font_path", "render_letter", "alphabet", "noisy",
+           "pixel_counts", "rule_grid", "choose_rule"]
+
+#: The 26 upper-case letters in alphabetical order.
+LETTERS: str = string.ascii_uppercase
+
+#: Default cap height in pixels (chosen by :func:`choose_rule`).
+CAP_HEIGHT: float = 10.0
+
+#: Default minimum covered fraction of a pixel's area for it to be on (one of 64 sub-samples).
+MIN_COVERAGE: float = 1.0 / 64.0
+
+
+def font_path() -> Path:
+    """Path of matplotlib's bundled STIX regular font (``STIXGeneral.ttf``)."""
+    path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "STIXGeneral.ttf"
+    if not path.is_file():  # pragma: no cover - matplotlib always ships it
+        raise FileNotFoundError(f"matplotlib's STIX font is missing: {path}")
+    return path
+
+
+def _check_int(value: object, name: str, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < low:
+        raise ValueError(f"{name} must be >= {low}, got {value}")
+    return int(value)
+
+
+@lru_cache(maxsize=None)
+def _glyph(letter: str) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """Outline polygons of a glyph at font size 1 and the font's cap height."""
+    prop = FontProperties(fname=str(font_path()))
+    cap = TextPath((0, 0), "H", size=1.0, prop=prop).get_extents().height
+    path = TextPath((0, 0), letter, size=1.0, prop=prop)
+    polys = tuple(np.asarray(p, dtype=float) for p in path.to_polygons(closed_only=True))
+    return np.array([cap]), polys
+
+
+def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
+                  min_coverage: float = MIN_COVERAGE, supersample: int = 8) -> np.ndarray:
+    """Rasterize one upper-case letter to a binary ``size x size`` image.
+
+    Parameters
+    ----------
+    letter : str
+        One character of :data:`LETTERS`.
+    size : int, default 32
+        Side of the square frame in pixels (Sec. III.A uses 32).
+    cap_height : float, default :data:`CAP_HEIGHT`
+        Height in pixels of the font's cap height after scaling.
+    min_coverage : float, default :data:`MIN_COVERAGE`
+        A pixel is on when at least this fraction of its sub-samples is inside the glyph.
+    supersample : int, default 8
+        Sub-samples per pixel side used to measure the covered area.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``float`` array of shape ``(size, size)`` with values 0 and 1; row 0 is the top.
+
+    Raises
+    ------
+    ValueError
+        If ``letter`` is not one upper-case ASCII letter, or the glyph does not fit.
+    """
+    if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
+        raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
+    size = _check_int(size, "size", 4)
+    supersample = _check_int(supersample, "supersample", 1)
+    if isinstance(cap_height, bool) or not isinstance(cap_height, (int, float, np.number)):
+        raise TypeError(f"cap_height must be a number, got {type(cap_height).__name__}")
+    if not np.isfinite(cap_height) or not 0 < cap_height < size:
+        raise ValueError(f"cap_height must be in (0, size={size}), got {cap_height}")
+    if isinstance(min_coverage, bool) or not isinstance(min_coverage, (int, float, np.number)):
+        raise TypeError(f"min_coverage must be a number, got {type(min_coverage).__name__}")
+    if not np.isfinite(min_coverage) or not 0 < min_coverage <= 1:
+        raise ValueError(f"min_coverage must be in (0, 1], got {min_coverage}")
+    cap, polys = _glyph(letter)
+    scale = float(cap_height) / float(cap[0])
+    pts = np.concatenate(polys)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre = (lo + hi) / 2
+    if np.any((hi - lo) * scale > size):
+        raise ValueError(f"letter {letter!r} does not fit a {size}-pixel frame at cap_height={cap_height}")
+    # Sub-sample points (x to the right, y up) in pixel units; frame spans [0, size].
+    s = (np.arange(size * supersample) + 0.5) / supersample
+    xx, yy = np.meshgrid(s, s[::-1])  # row 0 of the image is the top (largest y)
+    points = np.column_stack([xx.ravel(), yy.ravel()])
+    # Glyph coordinates of each sample point.
+    glyph_pts = (points - size / 2) / scale + centre
+    # Even-odd rule over all contours handles holes (A, B, D, O, P, Q, R).
+    inside = np.zeros(len(points), dtype=bool)
+    for poly in polys:
+        inside ^= MplPath(poly).contains_points(glyph_pts)
+    cover = inside.reshape(size, supersample, size, supersample).mean(axis=(1, 3))
+    return (cover >= min_coverage - 1e-12).astype(float)
+
+
+def alphabet(size: int = 32, cap_height: float = CAP_HEIGHT, min_coverage: float = MIN_COVERAGE,
+             supersample: int = 8) -> np.ndarray:
+    """All 26 letters, :func:`render_letter` of ``A``..``Z``, shape ``(26, size, size)``."""
+    return np.stack([render_letter(c, size, cap_height, min_coverage, supersample) for c in LETTERS])
+
+
+def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
+              min_coverages: tuple[float, ...] = (0.5, 0.25, 1.0 / 64.0)) -> list[dict[str, float]]:
+    """Pixel-count statistics of the 26 letters for each candidate size rule.
+
+    Returns
+    -------
+    list of dict
+        One dict per (cap height, coverage) with keys ``cap_height``, ``min_coverage``,
+        ``n_in_40_75`` (letters with 40-75 on-pixels), ``min``, ``median``, ``max``.
+    """
+    out = []
+    for cap in cap_heights:
+        for cov in min_coverages:
+            counts = pixel_counts(alphabet(cap_height=cap, min_coverage=cov))
+            out.append({"cap_height": float(cap), "min_coverage": float(cov),
+                        "n_in_40_75": int(np.sum((counts >= 40) & (counts <= 75))),
+                        "min": int(counts.min()), "median": float(np.median(counts)),
+                        "max": int(counts.max())})
+    return out
+
+
+def choose_rule(grid: list[dict[str, float]] | None = None) -> tuple[float, float]:
+    """The size rule that best matches the description of Sec. III.A.
+
+    Most letters with 40-75 on-pixels, all letters under 110, ties to the smallest cap
+    height then the largest coverage threshold. Returns ``(cap_height, min_coverage)``.
+    """
+    grid = rule_grid() if grid is None else grid
+    ok = [g for g in grid if g["max"] < 110]
+    if not ok:
+        raise ValueError("no candidate rule keeps every letter under 110 pixels")
+    best = max(ok, key=lambda g: (g["n_in_40_75"], -g["cap_height"], g["min_coverage"]))
+    return best["cap_height"], best["min_coverage"]
+
+
+def pixel_counts(images: np.ndarray) -> np.ndarray:
+    """Number of nonzero pixels of each image of a stack ``(n, H, W)``."""
+    images = np.asarray(images)
+    if images.ndim != 3:
+        raise ValueError(f"images must be a stack of shape (n, H, W), got shape {images.shape}")
+    return np.count_nonzero(images, axis=(1, 2))
+
+
+def noisy(images: np.ndarray, sigma: float, rng: np.random.Generator, *, n_draws: int = 1,
+          distribution: str = "gaussian", zero_mean: bool = True) -> np.ndarray:
+    """Add white noise of standard deviation ``sigma`` to images, as in Sec. III.B-C.
+
+    Parameters
+    ----------
+    images : array_like
+        One image ``(H, W)`` or a stack ``(n, H, W)``.
+    sigma : float
+        Noise standard deviation (>= 0).
+    rng : numpy.random.Generator
+        Source of the noise.
+    n_draws : int, default 1
+        Independent noisy copies of each image.
+    distribution : {"gaussian", "uniform"}
+        Gaussian noise (the model of Sec. II.C) or zero-mean uniform noise of the same
+        standard deviation (the text also says "all signal and noise data are uniformly
+        distributed").
+    zero_mean : bool, default True
+        Subtract from each noisy image its own mean ("the full image plus noise made to
+        be zero mean. (This is what an optical system does.)", Sec. III.B).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n_draws, n, H, W)`` for a stack, ``(n_draws, H, W)`` for one image.
+    """
+    arr = np.asarray(images, dtype=float)
+    if arr.ndim not in (2, 3) or arr.size == 0:
+        raise ValueError(f"images must be a non-empty (H, W) or (n, H, W) array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("images must be finite (no NaN or inf)")
+    if isinstance(sigma, bool) or not isinstance(sigma, (int, float, np.number)):
+        raise TypeError(f"sigma must be a number, got {type(sigma).__name__}")
+    if not np.isfinite(sigma) or sigma < 0:
+        raise ValueError(f"sigma must be a finite number >= 0, got {sigma}")
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    n_draws = _check_int(n_draws, "n_draws", 1)
+    shape = (n_draws,) + arr.shape
+    if distribution == "gaussian":
+        noise = rng.normal(0.0, float(sigma), size=shape)
+    elif distribution == "uniform":
+        half = float(sigma) * np.sqrt(3.0)
+        noise = rng.uniform(-half, half, size=shape)
+    else:
+        raise ValueError(f"distribution must be 'gaussian' or 'uniform', got {distribution!r}")
+    out = arr[None] + noise
+    if zero_mean:
+        out -= out.mean(axis=(-2, -1), keepdims=True)
+    return out

@@ -1,0 +1,99 @@
+"""Tests of projtrack.scenes.letters (the 32 x 32 letter stand-ins of Casasent & Song)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from projtrack.scenes import letters
+
+
+def test_alphabet_shape_binary_and_deterministic():
+    a = letters.alphabet()
+    assert a.shape == (26, 32, 32)
+    assert set(np.unique(a)) <= {0.0, 1.0}
+    assert np.array_equal(a, letters.alphabet())
+    assert len({a[k].tobytes() for k in range(26)}) == 26
+
+
+def test_letters_are_central_and_within_paper_limits():
+    a = letters.alphabet()
+    counts = letters.pixel_counts(a)
+    assert counts.max() < 110  # "all letters had less than 110 nonzero pixels"
+    assert np.sum((counts >= 40) & (counts <= 75)) >= 13  # "most letters ... 40-75"
+    rows = np.nonzero(a.any(axis=2))
+    cols = np.nonzero(a.any(axis=1))
+    assert rows[1].min() >= 9 and rows[1].max() <= 22
+    assert cols[1].min() >= 9 and cols[1].max() <= 22
+
+
+def test_default_rule_is_the_chosen_rule():
+    assert letters.choose_rule() == (letters.CAP_HEIGHT, letters.MIN_COVERAGE)
+
+
+def test_choose_rule_logic():
+    grid = [{"cap_height": 10.0, "min_coverage": 0.5, "n_in_40_75": 5, "max": 50},
+            {"cap_height": 12.0, "min_coverage": 0.5, "n_in_40_75": 9, "max": 120},
+            {"cap_height": 11.0, "min_coverage": 0.25, "n_in_40_75": 7, "max": 90},
+            {"cap_height": 10.0, "min_coverage": 0.25, "n_in_40_75": 7, "max": 90}]
+    assert letters.choose_rule(grid) == (10.0, 0.25)
+    with pytest.raises(ValueError):
+        letters.choose_rule([{"cap_height": 10.0, "min_coverage": 0.5, "n_in_40_75": 1, "max": 200}])
+
+
+def test_holes_are_rendered():
+    o = letters.render_letter("O")
+    assert o[16, 16] == 0.0 and o.sum() > 20  # the counter of O is empty
+
+
+def test_larger_cap_height_gives_more_pixels():
+    small = letters.render_letter("E", cap_height=8).sum()
+    large = letters.render_letter("E", cap_height=14).sum()
+    assert large > small
+
+
+def test_noisy_statistics_and_zero_mean():
+    rng = np.random.default_rng(0)
+    img = letters.render_letter("C")
+    out = letters.noisy(img, 0.4, rng, n_draws=400, zero_mean=False)
+    assert out.shape == (400, 32, 32)
+    assert abs((out - img).std() - 0.4) < 0.01
+    z = letters.noisy(letters.alphabet(), 0.4, rng, n_draws=3)
+    assert z.shape == (3, 26, 32, 32)
+    assert np.allclose(z.mean(axis=(-2, -1)), 0.0)
+    u = letters.noisy(img, 0.4, rng, n_draws=400, distribution="uniform", zero_mean=False) - img
+    assert abs(u.std() - 0.4) < 0.01 and np.abs(u).max() <= 0.4 * np.sqrt(3)
+
+
+def test_noisy_reproducible():
+    a = letters.noisy(np.ones((4, 4)), 1.0, np.random.default_rng(5))
+    b = letters.noisy(np.ones((4, 4)), 1.0, np.random.default_rng(5))
+    assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("kwargs, exc", [
+    ({"letter": "a"}, ValueError), ({"letter": "AB"}, ValueError), ({"letter": 3}, ValueError),
+    ({"letter": "A", "size": 2}, ValueError), ({"letter": "A", "cap_height": 40}, ValueError),
+    ({"letter": "A", "cap_height": np.nan}, ValueError), ({"letter": "A", "min_coverage": 0}, ValueError),
+    ({"letter": "A", "size": 3.5}, TypeError), ({"letter": "A", "cap_height": "10"}, TypeError),
+    ({"letter": "W", "size": 16, "cap_height": 15}, ValueError),
+])
+def test_render_bad_inputs(kwargs, exc):
+    with pytest.raises(exc):
+        letters.render_letter(**kwargs)
+
+
+def test_noisy_bad_inputs():
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError):
+        letters.noisy(np.ones(3), 0.1, rng)
+    with pytest.raises(ValueError):
+        letters.noisy(np.ones((3, 3)), -0.1, rng)
+    with pytest.raises(TypeError):
+        letters.noisy(np.ones((3, 3)), 0.1, 42)
+    with pytest.raises(ValueError):
+        letters.noisy(np.ones((3, 3)), 0.1, rng, distribution="cauchy")
+    with pytest.raises(ValueError):
+        letters.noisy(np.array([[np.nan]]), 0.1, rng)
+    with pytest.raises(ValueError):
+        letters.pixel_counts(np.ones((3, 3)))
