@@ -171,9 +171,8 @@ def check_row_stochastic(matrix: object, *, log: bool = False, name: str = "matr
         vals = np.exp(csr.data) if log else csr.data
         if not log and (np.isnan(vals).any() or (vals < 0).any()):
             raise ValueError(f"{name} must hold probabilities in [0, 1]")
-        sums = np.add.reduceat(vals, csr.indptr[:-1]) if vals.size else np.zeros(csr.shape[0])
-        counts = np.diff(csr.indptr)
-        sums = np.where(counts > 0, sums, 0.0)
+        rows = np.repeat(np.arange(csr.shape[0]), np.diff(csr.indptr))
+        sums = np.bincount(rows, weights=vals, minlength=csr.shape[0])
     else:
         a = np.asarray(matrix, dtype=float)
         if a.ndim != 2 or a.shape[0] != a.shape[1]:
