@@ -38,6 +38,8 @@ import numpy as np
 
 __all__ = [
     "TABLE1_STEPS",
+    "TABLE1_FLOW",
+    "plot_block_diagram",
     "KLBasis",
     "NoveltyResult",
     "FrameRecord",
@@ -64,6 +66,13 @@ TABLE1_STEPS: tuple[tuple[int, str], ...] = (
     (9, "Eigen-decompose V_i, new eigenimages (Eq. 9)"),
     (10, "Fractions F (Eq. 10), rank estimate (Eq. 11), discard excess"),
     (11, "More images? go to step 4"),
+)
+
+#: The control flow of Table 1: (from step, to step, condition); step 0 is the end.
+TABLE1_FLOW: tuple[tuple[int, int, str], ...] = (
+    (1, 2, ""), (2, 3, ""), (3, 4, ""), (4, 5, ""), (5, 6, ""), (6, 7, ""), (7, 8, ""),
+    (8, 6, "not novel"), (8, 9, "novel"), (9, 10, ""), (10, 11, ""),
+    (11, 4, "more images"), (11, 0, "done"),
 )
 
 # Relative tolerance below which an information fraction counts as numerically zero in the
@@ -667,3 +676,59 @@ def process_sequence(frames: Any, novelty_threshold: float, information_threshol
             rank=filt.rank_, novel_pixels=mask, eigenvalues=filt.eigenvalues_,
             first_eigenimage=filt.weighted_eigenimages()[0]))
     return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Fig. 1: the block diagram, drawn from TABLE1_STEPS and TABLE1_FLOW
+# ---------------------------------------------------------------------------------------------
+def plot_block_diagram(ax=None):
+    """Draw Fig. 1 (block diagram of the adaptive recursive SVD) from :data:`TABLE1_STEPS`.
+
+    Steps are stacked top to bottom; decision steps (those with conditional exits in
+    :data:`TABLE1_FLOW`) are drawn as diamonds, loops as arrows on the sides.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import FancyBboxPatch, Polygon
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.4, 7.2))
+    steps = dict(TABLE1_STEPS)
+    decisions = {a for a, _, c in TABLE1_FLOW if c}
+    order = [s for s, _ in TABLE1_STEPS] + [0]
+    ypos = {s: -k for k, s in enumerate(order)}
+    w, h = 4.6, 0.62
+    for s in order:
+        y = ypos[s]
+        label = "end" if s == 0 else f"{s}. {steps[s]}"
+        if s in decisions:
+            ax.add_patch(Polygon([(-w / 2, y), (0, y + h / 1.6), (w / 2, y), (0, y - h / 1.6)],
+                                 closed=True, fc="#fdf3d8", ec="k", lw=0.8))
+        else:
+            ax.add_patch(FancyBboxPatch((-w / 2, y - h / 2), w, h,
+                                        boxstyle="round,pad=0.02,rounding_size=0.12",
+                                        fc="#e8eef7" if s else "#dddddd", ec="k", lw=0.8))
+        ax.text(0, y, label, ha="center", va="center", fontsize=7.2)
+    for a, b, cond in TABLE1_FLOW:
+        ya, yb = ypos[a], ypos[b]
+        if yb == ya - 1:     # straight down
+            ax.annotate("", xy=(0, yb + h / 2 + 0.02), xytext=(0, ya - h / 2 - 0.02),
+                        arrowprops=dict(arrowstyle="-|>", lw=0.8, color="k"))
+            if cond:
+                ax.text(0.08, (ya + yb) / 2, cond, fontsize=6.5, va="center", style="italic")
+        else:                # loop back on a side
+            side = 1 if cond == "not novel" else -1
+            x0 = side * w / 2
+            xs = side * (w / 2 + 0.5)
+            ax.annotate("", xy=(x0 if b not in decisions else side * w / 2, yb),
+                        xytext=(xs, yb), arrowprops=dict(arrowstyle="-|>", lw=0.8, color="k"))
+            ax.plot([x0, xs, xs], [ya, ya, yb], color="k", lw=0.8)
+            ax.text(xs + side * 0.08, (ya + yb) / 2, cond, fontsize=6.5, style="italic",
+                    rotation=90, va="center", ha="left" if side > 0 else "right")
+    ax.set_xlim(-w / 2 - 1.0, w / 2 + 1.0)
+    ax.set_ylim(ypos[0] - 0.6, 0.6)
+    ax.set_axis_off()
+    return ax

@@ -11,13 +11,16 @@ round values chosen from the paper's description of its scene.
 """
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass
+from importlib import resources
 from numbers import Integral, Real
 
 import numpy as np
 from scipy import ndimage
 
-__all__ = ["WalkingSequence", "textured_background", "walking_sequence"]
+__all__ = ["WalkingSequence", "PlazaExcerpt", "load_plaza_excerpt", "textured_background",
+           "walking_sequence"]
 
 
 @dataclass(frozen=True)
@@ -45,6 +48,41 @@ class WalkingSequence:
     background: np.ndarray
     offsets: np.ndarray
     entry_frame: int
+
+
+@dataclass(frozen=True)
+class PlazaExcerpt:
+    """The committed 24-frame excerpt of OpenCV's ``vtest.avi`` (see ``plaza-excerpt.md``).
+
+    Attributes
+    ----------
+    frames : ndarray (24, 128, 128) uint8
+        One frame per second, grey, centred square crop resized to 128x128.
+    source_frame_index : ndarray (24,)
+        Frame numbers in ``vtest.avi`` (10 fps).
+    entry_position : int
+        0-based index of the frame where the window rule detected a person entering the
+        lower (near) half of the image.
+    source : str
+        Where the video came from (Debian package and version).
+    """
+
+    frames: np.ndarray
+    source_frame_index: np.ndarray
+    entry_position: int
+    source: str
+
+
+def load_plaza_excerpt() -> PlazaExcerpt:
+    """Load ``projtrack/data/plaza-excerpt.npz`` (real stand-in for Figs. 2-3).
+
+    Written by ``tools/fetch_plaza_video.py`` from Debian's ``opencv-doc``; provenance,
+    licence and the rule that chose the window are in ``projtrack/data/plaza-excerpt.md``.
+    """
+    raw = resources.files("projtrack").joinpath("data/plaza-excerpt.npz").read_bytes()
+    with np.load(io.BytesIO(raw)) as d:
+        return PlazaExcerpt(d["frames"].copy(), d["source_frame_index"].copy(),
+                            int(d["entry_position"]), str(d["source"]))
 
 
 def _check_rng(rng) -> np.random.Generator:
