@@ -455,3 +455,16 @@ def test_no_warnings_from_sdp():
         warnings.simplefilter("error")
         X = E.reconstruct(Ys, Cs, lower=0, method="sdp")
     assert np.linalg.eigvalsh(X)[0] >= -1e-7
+
+
+def test_fit_centered_ellipse_exact_and_bad():
+    rng = np.random.default_rng(0)
+    X = S.random_ellipsoid(3, rng)
+    C = S.random_projection(3, 2, rng)
+    pts = S.silhouette_points(X, C, 12, 0.0, rng)
+    np.testing.assert_allclose(E.fit_centered_ellipse(pts), E.project(X, C), atol=1e-9)
+    with pytest.raises(ValueError, match="at least"):
+        E.fit_centered_ellipse(pts[:2])
+    with pytest.raises(ValueError, match="not an ellipse"):
+        t = np.array([0.0, 1.0, -1.0, 2.0, 0.5])
+        E.fit_centered_ellipse(np.stack([np.cosh(t), np.sinh(t)], axis=1))  # points of a hyperbola

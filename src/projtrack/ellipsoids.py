@@ -48,7 +48,7 @@ __all__ = [
     "axes", "support", "volume", "boundary_points", "conic_points", "is_psd", "nearest_psd",
     "interval_bounds", "interval_boundary_point", "in_interval",
     "reconstruct", "halfspace_reconstruct", "HalfspaceResult", "sdp_reconstruct", "lsi",
-    "condition19",
+    "condition19", "fit_centered_ellipse",
     "shaping_matrix", "simulate", "state_space", "observability_matrix", "batch_rhs",
     "batch_estimate", "is_observable", "propagate", "kalman_estimate", "KalmanResult",
 ]
@@ -764,6 +764,43 @@ def condition19(Cs: Sequence[object], Ws: Sequence[object], X: object) -> tuple[
     lhs = np.inf if smin <= 1e-14 else noise / smin
     rhs = float(np.linalg.eigvalsh(Xm)[0])
     return bool(lhs <= rhs), float(lhs), rhs
+
+
+def fit_centered_ellipse(points: object) -> np.ndarray:
+    """Fit a centered ellipsoid ``{z : z^T Y^{-1} z <= 1}`` to boundary points (ellipsoid extraction).
+
+    KVW (Sec. 5) assume the projected ellipsoids ``Y_i`` are extracted from the raw data
+    first. This is the simplest such step: linear least squares for ``Q = Y^{-1}`` in
+    ``p^T Q p = 1`` over the points ``p`` (rows), then ``Y = Q^{-1}``.
+
+    Parameters
+    ----------
+    points : array_like, shape (k, m)
+        At least ``m(m+1)/2`` points spread around the boundary.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, m)
+
+    Raises
+    ------
+    ValueError
+        If there are too few points or the fitted conic is not an ellipse.
+    """
+    P = _as_float_array(points, "points")
+    if P.ndim != 2 or P.shape[1] < 1:
+        raise ValueError(f"points must be a (k, m) array, got shape {P.shape}")
+    m = P.shape[1]
+    if P.shape[0] < _dim(m):
+        raise ValueError(f"need at least {_dim(m)} points for an ellipse in {m} dimensions, got {P.shape[0]}")
+    G = svec(np.einsum("ki,kj->kij", P, P))  # <p p^T, Q> = svec(p p^T) . svec(Q)
+    q, *_ = np.linalg.lstsq(G, np.ones(P.shape[0]), rcond=None)
+    Q = smat(q)
+    lam = np.linalg.eigvalsh(Q)
+    if lam[0] <= 0:
+        raise ValueError("the fitted conic is not an ellipse (points too noisy or degenerate)")
+    Y = np.linalg.inv(Q)
+    return (Y + Y.T) / 2
 
 
 # ---------------------------------------------------------------------------------------

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "periodic_drive",
-           "random_ellipsoid", "random_projection", "rotation"]
+           "random_ellipsoid", "random_projection", "rotation", "silhouette_points"]
 
 #: The underlying ellipse of eq. (26) of KVW: semi-axes 2 and 1, major axis at pi/4.
 X26: np.ndarray = 0.5 * np.array([[5.0, 3.0], [3.0, 5.0]])
@@ -175,3 +175,23 @@ def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: fl
     W = lognormal_noise(ideal, variance, rng)
     return {"A": A, "As": As, "Bs": Bs, "Xs": Xs, "C": C, "Cs": [C] * n_steps, "ideal": ideal, "W": W,
             "Ys": [np.array([[v]]) for v in ideal + W]}
+
+
+def silhouette_points(X: np.ndarray, C: np.ndarray, n_points: int, noise: float,
+                      rng: np.random.Generator) -> np.ndarray:
+    """Noisy boundary points of the silhouette of ellipsoid ``X`` in the view ``C`` (m = 2).
+
+    The exact shadow ``Y = C^T X C`` (eq. 4 of KVW) is sampled at ``n_points`` angles chosen
+    uniformly at random; each point is moved along the boundary normal by Gaussian noise of
+    standard deviation ``noise`` (an edge detector's error), in the coordinates of ``C``.
+    """
+    Y = C.T @ X @ C
+    if Y.shape != (2, 2):
+        raise ValueError("silhouette_points makes 2-D silhouettes: C must be n x 2")
+    lam, V = np.linalg.eigh((Y + Y.T) / 2)
+    t = rng.uniform(0, 2 * np.pi, n_points)
+    u = np.stack([np.cos(t), np.sin(t)], axis=1)
+    p = (u * np.sqrt(lam)) @ V.T  # boundary points
+    normal = (u / np.sqrt(lam)) @ V.T
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    return p + noise * rng.normal(size=(n_points, 1)) * normal
