@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 from math import comb, factorial
 
 import numpy as np
@@ -459,12 +460,18 @@ def mu_words(m: int, min_count: int = 0) -> np.ndarray:
     min_count = _check_count(min_count, "min_count")
     if m > 30:
         raise ValueError(f"m must be <= 30 for MU words, got {m}")
+    return _mu_words_cached(m, min_count).copy()
+
+
+@lru_cache(maxsize=256)
+def _mu_words_cached(m: int, min_count: int) -> np.ndarray:
     w = np.arange(2**m, dtype=np.int64)
     pc = _popcount(w)
-    keep = w[pc >= min_count]
     # Table II order: decreasing bit count, then increasing word (0111, 1011, 1101, 1110)
-    order = sorted(keep.tolist(), key=lambda x: (-int(pc[x]), x))
-    return np.asarray(order, dtype=np.int64)
+    order = np.lexsort((w, -pc))
+    out = w[order][pc[order] >= min_count]
+    out.flags.writeable = False
+    return out
 
 
 def vector_size(m: int, T: int) -> int:
@@ -589,7 +596,7 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
                     p -= 1
                 vec_words, vec = cache[p]
             else:
-                vec_words = mu_words(m, max(0, m - p))
+                vec_words = _mu_words_cached(m, max(0, m - p))
                 col = wn[:, cols[p]]
                 vec = col[0] + bits[vec_words] @ col[1:]
                 if ops is not None:
@@ -597,7 +604,7 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
                 if store_intermediates and t == 0:
                     cache[p] = (vec_words, vec)
             for q in range(p - 1, 0, -1):
-                new_words = mu_words(m, max(0, m - q))
+                new_words = _mu_words_cached(m, max(0, m - q))
                 vec = stage_update(vec, new_words, vec_words, wn[:, cols[q]], ops)
                 vec_words = new_words
                 if store_intermediates and t == 0:
@@ -658,6 +665,21 @@ def _low_matrix(u: float, w: np.ndarray, n_low: int) -> np.ndarray:
 
 def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
              ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_fb_sweep` with BLAS limited to one thread for large state spaces.
+
+    The small dense products of the sweep gain nothing from BLAS threads, and idle
+    BLAS threads spin-wait, which costs several times the work on a busy machine.
+    """
+    if W.shape[1] < 12:
+        return _fb_sweep(W, u, v, ops)
+    from threadpoolctl import threadpool_limits  # a dependency of scikit-learn
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _fb_sweep(W, u, v, ops)
+
+
+def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
+              ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
     """Sum over partial matchings and its gradient (the engine of :func:`beta_forward_backward`).
 
     Items ``i`` (rows of ``W``, processed one by one) are either unmatched (weight
@@ -677,6 +699,7 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
     B = 1 << nl
     rows = N // B
     F = np.empty((n_it + 1, N))
+    buf = np.empty(N >> 1)
     F[0] = 0.0
     F[0, 0] = 1.0
     n_mul = n_add = 0
@@ -688,7 +711,10 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
         np.matmul(Fi.reshape(rows, B), Ms[i], out=new.reshape(rows, B))
         for k in high[i]:
             shp = (N >> (k + 1), 2, 1 << k)
-            new.reshape(shp)[:, 1, :] += W[i, k] * Fi.reshape(shp)[:, 0, :]
+            tmp = buf.reshape(N >> (k + 1), 1 << k)
+            np.multiply(Fi.reshape(shp)[:, 0, :], W[i, k], out=tmp)
+            dst = new.reshape(shp)[:, 1, :]
+            np.add(dst, tmp, out=dst)
         nz = int(np.count_nonzero(W[i]))
         n_mul += N + nz * (N >> 1)
         n_add += nz * (N >> 1)
@@ -719,7 +745,10 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
             shp = (N >> (k + 1), 2, 1 << k)
             Gk1 = G.reshape(shp)[:, 1, :]
             gW[i, k] = W[i, k] * float(np.einsum("ij,ij->", Fi.reshape(shp)[:, 0, :], Gk1))
-            Gn.reshape(shp)[:, 0, :] += W[i, k] * Gk1
+            tmp = buf.reshape(N >> (k + 1), 1 << k)
+            np.multiply(Gk1, W[i, k], out=tmp)
+            dst = Gn.reshape(shp)[:, 0, :]
+            np.add(dst, tmp, out=dst)
         nz = int(np.count_nonzero(W[i]))
         n_mul += 2 * N + 2 * nz * (N >> 1)
         n_add += N + 2 * nz * (N >> 1)

@@ -1,0 +1,146 @@
+"""Wall-clock time of exact JPDA beta on fully gated m = T = n problems (Fisher & Casasent 1989).
+
+Methods: the conventional enumeration of feasibility matrices (``beta_enumerated``, the
+baseline), the paper's fast MU-word algorithm (``beta_paper``), the clustered
+forward-backward method (``beta``, the package default), and two exact peers from
+Stone Soup: ``JPDA`` (joint-hypothesis enumeration) and ``JPDAwithEHM`` (efficient
+hypothesis management), driven on the same tracks and detections, with hypothesis
+generation done once outside the timing so that only the association is timed.
+All methods are checked to give the same beta. Best of a few repeats; a method is
+not run at a size whose time, extrapolated from the growth between the two previous
+sizes, would exceed ``CAP`` seconds (the exact methods grow exponentially). Run:
+``python benchmarks/bench_jpda.py``.
+"""
+
+from __future__ import annotations
+
+import datetime
+import time
+import warnings
+
+import numpy as np
+
+from projtrack import jpda
+
+CAP = 2.5  # seconds: a method is not run at a size whose predicted time exceeds this
+P_D, P_G, LAM = 0.9, 0.9999, 1e-3
+
+
+def problem(n: int, rng: np.random.Generator):
+    """n targets and n measurements, all inside every gate (fully gated)."""
+    zp = rng.uniform(-1, 1, (n, 2))
+    S = np.repeat((25.0 * np.eye(2))[None], n, axis=0)
+    z = rng.uniform(-1, 1, (n, 2))
+    mvm = jpda.modified_validation_matrix(z, zp, S, P_D, gate_prob=P_G, clutter_density=LAM)
+    mvm[0] = 1 - P_D * P_G
+    assert np.all(mvm[1:] > 0)
+    return z, zp, S, mvm
+
+
+def stonesoup_peer(z, zp, S, ehm: bool):
+    """A Stone Soup associator with precomputed hypotheses on the same problem."""
+    from stonesoup.dataassociator.probability import JPDA, JPDAwithEHM
+    from stonesoup.hypothesiser.probability import PDAHypothesiser
+    from stonesoup.models.measurement.linear import LinearGaussian
+    from stonesoup.models.transition.linear import (
+        CombinedLinearGaussianTransitionModel, RandomWalk)
+    from stonesoup.predictor.kalman import KalmanPredictor
+    from stonesoup.types.detection import Detection
+    from stonesoup.types.state import GaussianState
+    from stonesoup.types.track import Track
+    from stonesoup.updater.kalman import KalmanUpdater
+
+    t0 = datetime.datetime(2000, 1, 1)
+    # zero-noise random walk: the prediction is the state; H = I, R = S - P
+    trans = CombinedLinearGaussianTransitionModel([RandomWalk(0.0), RandomWalk(0.0)])
+    meas = LinearGaussian(ndim_state=2, mapping=(0, 1), noise_covar=S[0] - np.eye(2))
+    tracks = [Track([GaussianState(p.reshape(2, 1), np.eye(2), timestamp=t0)]) for p in zp]
+    dets = [Detection(x.reshape(2, 1), timestamp=t0, measurement_model=meas) for x in z]
+    hyp = PDAHypothesiser(KalmanPredictor(trans), KalmanUpdater(meas),
+                          clutter_spatial_density=LAM, prob_detect=P_D, prob_gate=P_G)
+    assoc = (JPDAwithEHM if ehm else JPDA)(hyp)
+    hyps = assoc.generate_hypotheses(set(tracks), set(dets), t0)
+    assoc.generate_hypotheses = lambda *a, **k: hyps
+
+    def run():
+        out = assoc.associate(set(tracks), set(dets), t0)
+        b = np.zeros((len(z) + 1, len(zp)))
+        for t, tr in enumerate(tracks):
+            for h in out[tr]:
+                if h.measurement.__class__.__name__ == "MissedDetection":
+                    b[0, t] = float(h.probability)
+                else:
+                    b[1 + dets.index(h.measurement), t] = float(h.probability)
+        return b / b.sum(axis=0)
+
+    return run
+
+
+def best_time(fn, repeats: int) -> tuple[float, np.ndarray]:
+    best, out = np.inf, None
+    for _ in range(repeats):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+        if best > CAP / 5:
+            break
+    return best, out
+
+
+def main() -> None:
+    warnings.simplefilter("ignore")  # Stone Soup warns about Probability arithmetic
+    rng = np.random.default_rng(0)
+    names = ["enumerate", "paper", "auto", "stonesoup JPDA", "stonesoup EHM"]
+    alive = dict.fromkeys(names, True)
+    last: dict[str, list[float]] = {k: [] for k in names}
+    rows = []
+    for n in range(2, 21):
+        z, zp, S, mvm = problem(n, rng)
+        fns = {
+            "enumerate": lambda: jpda.beta_enumerated(mvm),
+            "paper": lambda: jpda.beta_paper(mvm),
+            "auto": lambda: jpda.beta(mvm),
+        }
+        times = {}
+        ref = None
+        for name in names:
+            if not alive[name]:
+                times[name] = np.nan
+                continue
+            if name.startswith("stonesoup"):
+                fn = stonesoup_peer(z, zp, S, ehm=name.endswith("EHM"))
+            else:
+                fn = fns[name]
+            t, b = best_time(fn, 3 if n < 16 else 2)
+            if ref is None:
+                ref = b
+            elif not np.allclose(b, ref, atol=1e-9):
+                raise AssertionError(f"{name} disagrees at n = {n}")
+            times[name] = t
+            last[name].append(t)
+            growth = max(2.0, last[name][-1] / last[name][-2]) if len(last[name]) > 1 else 2.0
+            if t * growth > CAP:
+                alive[name] = False
+        rows.append((n, jpda.count_feasible_events(n, n), times))
+        print(f"n={n:2d} " + "  ".join(f"{k}={v:.2e}" for k, v in times.items()), flush=True)
+    print()
+    print("Fully gated m = T = n, best wall-clock seconds; ratios are enumerate / method")
+    print("(or stonesoup EHM / auto). '-' = not run (an earlier size exceeded the cap).")
+    hdr = (f"{'n':>3} {'events':>14} " + " ".join(f"{k:>15}" for k in names)
+           + f" {'enum/auto':>10} {'EHM/auto':>9}")
+    print(hdr)
+    for n, ev, t in rows:
+        cells = " ".join(f"{t[k]:15.2e}" if np.isfinite(t[k]) else f"{'-':>15}" for k in names)
+        r1 = t["enumerate"] / t["auto"]
+        r2 = t["stonesoup EHM"] / t["auto"]
+        print(f"{n:3d} {ev:14d} {cells} "
+              + (f"{r1:10.0f}" if np.isfinite(r1) else f"{'-':>10}")
+              + (f" {r2:9.0f}" if np.isfinite(r2) else f" {'-':>9}"))
+    t16 = [t for n, _, t in rows if n == 16][0]["auto"]
+    t20 = [t for n, _, t in rows if n == 20][0]["auto"]
+    print(f"\ntargets: m = T = 16 in {t16:.3f} s (< 0.1 s: {t16 < 0.1}); "
+          f"m = T = 20 in {t20:.3f} s (< 2 s: {t20 < 2})")
+
+
+if __name__ == "__main__":
+    main()
