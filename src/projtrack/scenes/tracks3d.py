@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["TrackScene", "make_tracks", "perturb"]
+__all__ = ["TrackScene", "make_tracks", "perturb", "degrade"]
 
 
 @dataclass(frozen=True)
@@ -156,3 +156,43 @@ def make_tracks(rng: np.random.Generator, n_targets: int = 4, n_frames: int = 5,
         labels = np.stack([rng.permutation(n_targets) for _ in range(n_frames)])
     positions = np.take_along_axis(noisy, labels[:, :, None], axis=1)
     return TrackScene(truth=truth, positions=positions, labels=labels, field=float(field))
+
+
+def degrade(rng: np.random.Generator, scene: TrackScene, n_spurious: int = 0, n_missing: int = 0
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """Add spurious measurements and delete detections, padding with zero vectors (Sec. IV).
+
+    Every frame gets ``n_spurious`` extra measurements uniform over the cube. Then
+    ``n_missing`` detections, chosen at random among the frames and targets, are removed;
+    as in the paper, each frame is padded with zero vectors (the centre of the space) back
+    to the common size ``N_M = N_T + n_spurious``.
+
+    Returns
+    -------
+    positions : ndarray, shape (N_P, N_M, 3)
+        Measurements in random order within each frame.
+    labels : ndarray of int, shape (N_P, N_M)
+        Target of each measurement; -1 for spurious ones. A zero vector that replaces a
+        missing detection of target ``i`` is labelled ``i`` (assigning it to target ``i``
+        is the right answer).
+    """
+    _check_rng(rng)
+    if not isinstance(scene, TrackScene):
+        raise TypeError(f"scene must be a TrackScene, got {type(scene).__name__}")
+    for name, v in (("n_spurious", n_spurious), ("n_missing", n_missing)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+            raise ValueError(f"{name} must be an int >= 0, got {v!r}")
+    n_p, n_t, _ = scene.positions.shape
+    if n_missing > n_p * n_t:
+        raise ValueError(f"n_missing must be <= N_P N_T = {n_p * n_t}, got {n_missing}")
+    half = scene.field / 2
+    order = np.argsort(scene.labels, axis=1)
+    pos = np.take_along_axis(scene.positions, order[:, :, None], axis=1).copy()  # target order
+    lab = np.tile(np.arange(n_t), (n_p, 1))
+    miss = rng.choice(n_p * n_t, size=n_missing, replace=False)
+    pos.reshape(-1, 3)[miss] = 0.0
+    spur = rng.uniform(-half, half, (n_p, n_spurious, 3))
+    pos = np.concatenate([pos, spur], axis=1)
+    lab = np.concatenate([lab, np.full((n_p, n_spurious), -1)], axis=1)
+    perm = np.stack([rng.permutation(n_t + n_spurious) for _ in range(n_p)])
+    return np.take_along_axis(pos, perm[:, :, None], axis=1), np.take_along_axis(lab, perm, axis=1)
