@@ -168,37 +168,50 @@ _LIGHT = np.array([0.35, 0.25, 1.0]) / np.linalg.norm([0.35, 0.25, 1.0])
 
 
 def _rasterize(tris2: np.ndarray, depth: np.ndarray, shade: np.ndarray, size: int) -> np.ndarray:
-    """Z-buffer flat-shaded triangles (pixel coords) on a ``size x size`` grid, chunked."""
-    img = np.zeros(size * size)
-    zbuf = np.full(size * size, -np.inf)
-    py, px = np.divmod(np.arange(size * size), size)
-    px, py = px + 0.5, py + 0.5
-    x0, y0 = tris2[:, 0, 0], tris2[:, 0, 1]
-    x1, y1 = tris2[:, 1, 0], tris2[:, 1, 1]
-    x2, y2 = tris2[:, 2, 0], tris2[:, 2, 1]
+    """Z-buffer flat-shaded triangles (pixel coords) on a ``size x size`` grid.
+
+    Vectorized over chunks of triangles of similar size: each triangle's bounding box is
+    scanned on a common ``B x B`` window; among the covering triangles of a pixel (pixel
+    centre inside, barycentric coordinates >= 0) the nearest (largest depth) wins.
+    """
+    xs, ys = tris2[..., 0], tris2[..., 1]
+    x0, y0, x1, y1, x2, y2 = xs[:, 0], ys[:, 0], xs[:, 1], ys[:, 1], xs[:, 2], ys[:, 2]
     area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
-    ok = np.abs(area) > 1e-12
-    for t in np.flatnonzero(ok):
-        cmin = max(int(np.floor(min(x0[t], x1[t], x2[t]))), 0)
-        cmax = min(int(np.ceil(max(x0[t], x1[t], x2[t]))), size)
-        rmin = max(int(np.floor(min(y0[t], y1[t], y2[t]))), 0)
-        rmax = min(int(np.ceil(max(y0[t], y1[t], y2[t]))), size)
-        if cmin >= cmax or rmin >= rmax:
+    cmin = np.clip(np.floor(xs.min(1)), 0, size).astype(int)
+    cmax = np.clip(np.ceil(xs.max(1)), 0, size).astype(int)
+    rmin = np.clip(np.floor(ys.min(1)), 0, size).astype(int)
+    rmax = np.clip(np.ceil(ys.max(1)), 0, size).astype(int)
+    extent = np.maximum(cmax - cmin, rmax - rmin)
+    keep = (np.abs(area) > 1e-12) & (cmax > cmin) & (rmax > rmin)
+    order = np.flatnonzero(keep)[np.argsort(extent[keep], kind="stable")]
+    all_idx, all_z, all_s = [], [], []
+    for chunk in np.array_split(order, max(1, len(order) // 64)):
+        if chunk.size == 0:
             continue
-        rr, cc = np.mgrid[rmin:rmax, cmin:cmax]
-        qx, qy = cc.ravel() + 0.5, rr.ravel() + 0.5
-        w1 = ((qx - x0[t]) * (y2[t] - y0[t]) - (x2[t] - x0[t]) * (qy - y0[t])) / area[t]
-        w2 = ((x1[t] - x0[t]) * (qy - y0[t]) - (qx - x0[t]) * (y1[t] - y0[t])) / area[t]
+        b = int(extent[chunk].max())
+        off = np.arange(b)
+        rr = rmin[chunk, None, None] + off[None, :, None]          # (T, B, 1)
+        cc = cmin[chunk, None, None] + off[None, None, :]          # (T, 1, B)
+        qx, qy = cc + 0.5, rr + 0.5
+        a = area[chunk, None, None]
+        X0, Y0 = x0[chunk, None, None], y0[chunk, None, None]
+        w1 = ((qx - X0) * (y2[chunk, None, None] - Y0) - (x2[chunk, None, None] - X0) * (qy - Y0)) / a
+        w2 = ((x1[chunk, None, None] - X0) * (qy - Y0) - (qx - X0) * (y1[chunk, None, None] - Y0)) / a
         w0 = 1.0 - w1 - w2
-        inside = (w0 >= 0) & (w1 >= 0) & (w2 >= 0)
-        if not inside.any():
-            continue
-        z = w0 * depth[t, 0] + w1 * depth[t, 1] + w2 * depth[t, 2]
-        idx = (rr.ravel() * size + cc.ravel())[inside]
-        z = z[inside]
-        closer = z > zbuf[idx]
-        zbuf[idx[closer]] = z[closer]
-        img[idx[closer]] = shade[t]
+        inside = (w0 >= 0) & (w1 >= 0) & (w2 >= 0) & (rr < size) & (cc < size)
+        d = depth[chunk]
+        z = w0 * d[:, 0, None, None] + w1 * d[:, 1, None, None] + w2 * d[:, 2, None, None]
+        t_i, r_i, c_i = np.nonzero(inside)
+        all_idx.append((rr[t_i, r_i, 0]) * size + cc[t_i, 0, c_i])
+        all_z.append(z[t_i, r_i, c_i])
+        all_s.append(shade[chunk][t_i])
+    img = np.zeros(size * size)
+    if all_idx:
+        idx, z, sh = np.concatenate(all_idx), np.concatenate(all_z), np.concatenate(all_s)
+        o = np.lexsort((z, idx))                    # by pixel, then depth ascending
+        idx, sh = idx[o], sh[o]
+        last = np.r_[idx[1:] != idx[:-1], True]    # nearest triangle of each pixel
+        img[idx[last]] = sh[last]
     return img.reshape(size, size)
 
 
