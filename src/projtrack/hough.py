@@ -484,24 +484,58 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     labels, n = ndimage.label(weak, structure=np.ones((3, 3), dtype=bool))
     if n == 0:
         return []
+    wrap = _wraps(r, t)
+    seam = np.zeros(n + 1, dtype=bool)
+    if wrap:  # join groups across theta = 0 / 180, where (rho, 180) is (-rho, 0)
+        parent = np.arange(n + 1)
+
+        def root(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        first, last = labels[:, 0], labels[::-1, -1]  # last column mirrored in rho
+        for k in (-1, 0, 1):
+            a = first[max(0, k):first.size + min(0, k)]
+            b = last[max(0, -k):last.size + min(0, -k)]
+            for u, v in zip(a[(a > 0) & (b > 0)], b[(a > 0) & (b > 0)]):
+                ru, rv = root(int(u)), root(int(v))
+                if ru != rv:
+                    parent[max(ru, rv)] = min(ru, rv)
+                seam[ru] = seam[rv] = True
+        roots = np.array([root(a) for a in range(n + 1)])
+        seam = seam[roots]
+        labels = roots[labels]
     ii, jj = np.nonzero(labels)
     lab = labels[ii, jj]
     h, rr, tt, rat = Hf[ii, jj], r[ii], t[jj], R[ii, jj]
-    has_strong = np.bincount(lab, weights=strong[ii, jj], minlength=n + 1) > 0
-    wsum = np.bincount(lab, weights=h, minlength=n + 1)
-    rho_c = np.bincount(lab, weights=h * rr, minlength=n + 1)
-    th_c = np.bincount(lab, weights=h * tt, minlength=n + 1)
+    if wrap and seam.any():  # express seam groups on theta in (-90, 90)
+        flip = seam[lab] & (tt > 90.0)
+        rr = np.where(flip, -rr, rr)
+        tt = np.where(flip, tt - 180.0, tt)
+    sc = strong[ii, jj]
+    has_strong = np.bincount(lab, weights=sc, minlength=n + 1) > 0
+    # The centroid is taken over the peak points (ratio above 3) of the group; the
+    # bridging cells (ratio above 1.5) only join split peaks into one group.
+    hs = h * sc
+    wsum = np.bincount(lab, weights=hs, minlength=n + 1)
+    rho_c = np.bincount(lab, weights=hs * rr, minlength=n + 1)
+    th_c = np.bincount(lab, weights=hs * tt, minlength=n + 1)
     ncell = np.bincount(lab, minlength=n + 1)
     vmax = np.zeros(n + 1)
     np.maximum.at(vmax, lab, h)
     rmax = np.zeros(n + 1)
     np.maximum.at(rmax, lab, rat)
-    keep = np.flatnonzero(has_strong)
+    keep = np.flatnonzero(has_strong & (wsum > 0))
     if keep.size == 0:
         return []
-    wrap = _wraps(r, t)
-    peaks = [HoughPeak(float(rho_c[k] / wsum[k]), float(th_c[k] / wsum[k]), float(vmax[k]), float(rmax[k]),
-                       int(ncell[k])) for k in keep]
+    peaks = []
+    for k in keep:
+        rho_k, th_k = rho_c[k] / wsum[k], th_c[k] / wsum[k]
+        if th_k < 0:
+            rho_k, th_k = -rho_k, th_k + 180.0
+        peaks.append(HoughPeak(float(rho_k), float(th_k), float(vmax[k]), float(rmax[k]), int(ncell[k])))
     peaks.sort(key=lambda p: (-p.votes, -p.ratio, p.theta_deg, p.rho))
     if wrap:  # one line seen at both ends of the theta axis: keep the stronger group
         dr, dt = r[1] - r[0], t[1] - t[0]
