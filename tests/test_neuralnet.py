@@ -283,3 +283,25 @@ def test_bad_inputs():
         perturb(rng, np.ones((2, 3)), -1.0)
     with pytest.raises(ValueError, match="n_frames"):
         make_tracks(rng, 4, 1)
+
+
+def test_degrade_labels_and_padding():
+    from projtrack.scenes.tracks3d import degrade
+
+    rng = np.random.default_rng(8)
+    s = make_tracks(rng, 4, 5)
+    pos, lab = degrade(rng, s, n_spurious=2, n_missing=3)
+    assert pos.shape == (5, 6, 3) and lab.shape == (5, 6)
+    assert (lab == -1).sum() == 10
+    # every target appears once per frame; exactly 3 of those entries are zero vectors
+    for a in range(5):
+        assert sorted(lab[a][lab[a] >= 0].tolist()) == [0, 1, 2, 3]
+    zero = np.all(pos == 0.0, axis=-1) & (lab >= 0)
+    assert zero.sum() == 3
+    # the intended assignment is admissible and judged correct
+    want = np.array([[int(np.flatnonzero(lab[a] == i)[0]) for a in range(5)] for i in range(4)])
+    assert nn.is_correct_assignment(want, lab)
+    with pytest.raises(ValueError, match="n_missing"):
+        degrade(rng, s, n_missing=21)
+    with pytest.raises(TypeError, match="TrackScene"):
+        degrade(rng, pos)

@@ -37,7 +37,9 @@ an int array ``(N_T, N_P)`` of measurement indices.
 
 from __future__ import annotations
 
+import functools
 import itertools
+import math
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -864,6 +866,19 @@ def _check_square(D: np.ndarray, n_targets: int | None) -> tuple[np.ndarray, int
     return D, n_t
 
 
+@functools.lru_cache(maxsize=8)
+def _permutation_triples(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Permutations of ``range(n)`` and flat indices into ``D[a]`` of every triple of them."""
+    perms = np.array(list(itertools.permutations(range(n))), dtype=np.intp)  # (P, n); perms[0] = identity
+    p0 = perms[:, None, None, :]
+    p1 = perms[None, :, None, :]
+    p2 = perms[None, None, :, :]
+    flat = (p0 * n + p1) * n + p2                                            # (P, P, P, n)
+    flat.setflags(write=False)
+    perms.setflags(write=False)
+    return perms, flat
+
+
 def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: int = 20_000_000
                        ) -> tuple[np.ndarray, float]:
     """Exact minimum of the summed eq. (7) cost over one-to-one assignments (``N_T = N_M``).
@@ -879,20 +894,18 @@ def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: 
     cost : float
     """
     D, n = _check_square(D, n_targets)
-    perms = np.array(list(itertools.permutations(range(n))), dtype=np.intp)  # (P, n)
-    P = len(perms)
-    n_q = D.shape[0]
+    P = math.factorial(n)
     if P ** 3 > max_states:
         raise ValueError(f"N_T = {n} is too large for the exact search ({P}^3 states per frame)")
-    ident = np.arange(n)[None, :]
+    perms, flat = _permutation_triples(n)
+    n_q = D.shape[0]
+    # cost[a, p0, p1, p2]: summed D of frames (a, a+1, a+2) under permutations p0, p1, p2
+    cost = D.reshape(n_q, -1)[:, flat].sum(axis=-1)
     # V[p1, p2]: best cost with frame 0 = identity, frame a+1 = perms[p1], frame a+2 = perms[p2]
-    cost0 = D[0][ident[:, None, :], perms[:, None, :], perms[None, :, :]].sum(-1)  # (P, P)
-    V = cost0
+    V = cost[0, 0]  # perms[0] is the identity
     back = []
     for a in range(1, n_q):
-        # cost of triple frames (a, a+1, a+2) = (p0, p1, p2)
-        c = D[a][perms[:, None, None, :], perms[None, :, None, :], perms[None, None, :, :]].sum(-1)  # (P,P,P)
-        tot = V[:, :, None] + c
+        tot = V[:, :, None] + cost[a]
         arg = np.argmin(tot, axis=0)   # over p0 -> (p1, p2)
         back.append(arg)
         V = np.take_along_axis(tot, arg[None], axis=0)[0]
