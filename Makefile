@@ -22,6 +22,7 @@ help:
 	@echo "make figures  execute every notebook in place (refreshes stored outputs and figures/)"
 	@echo "make bench    run the benchmarks in benchmarks/"
 	@echo "make lock     regenerate environment.lock from pyproject.toml"
+	@echo "make kl-data  re-create the KL chapter's committed video excerpt from Debian's opencv-doc"
 	@echo "make clean    remove build products and caches (keeps .venv)"
 
 # The environment: (re)created whenever environment.lock or pyproject.toml is newer.
@@ -71,6 +72,12 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	@set -e; for f in benchmarks/bench_*.py; do echo "==> $$f"; $(PY) $$f; done
+
+# Re-create the committed plaza excerpt of the KL chapter from Debian's opencv-doc
+# package (needs apt access; the book itself never does this).
+kl-data: $(STAMP)
+	@echo "==> re-creating src/projtrack/data/plaza-excerpt.npz from Debian's opencv-doc"
+	$(PY) tools/fetch_plaza_video.py
 
 lock:
 	@echo "==> regenerating environment.lock (uv pip compile, Python 3.11, with hashes)"
