@@ -190,14 +190,19 @@ def gate_threshold(gate_prob: float, dim: int) -> float:
     distance ``(z - z_hat)^T S^{-1} (z - z_hat)`` to the predicted measurement
     ``z_hat`` (innovation covariance ``S``) does not exceed ``d``.
     """
-    from scipy.stats import chi2
-
     g = float(gate_prob)
     if not 0 < g < 1:
         raise ValueError(f"gate_prob must lie in (0, 1), got {gate_prob}")
     dim = _check_count(dim, "dim")
     if dim < 1:
         raise ValueError("dim must be >= 1")
+    return _chi2_ppf(g, dim)
+
+
+@lru_cache(maxsize=64)
+def _chi2_ppf(g: float, dim: int) -> float:
+    from scipy.stats import chi2
+
     return float(chi2.ppf(g, dim))
 
 
@@ -804,21 +809,23 @@ def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
     clusters with no measurement; measurements validated by no target are dropped.
     Joint events factor over clusters, so beta can be computed cluster by cluster.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     w = _check_mvm(mvm)
-    m1, T = w.shape
-    m = m1 - 1
-    jj, tt = np.nonzero(w[1:] > 0)
-    n = m + T
-    g = coo_matrix((np.ones(len(jj)), (jj, m + tt)), shape=(n, n))
-    _, lab = connected_components(g, directed=False)
+    A = w[1:] > 0
+    T = A.shape[1]
+    if T == 0:
+        return []
+    # label propagation over the target-target graph (targets sharing a measurement)
+    adj = (A.T.astype(np.int64) @ A.astype(np.int64) > 0) | np.eye(T, dtype=bool)
+    lab = np.arange(T)
+    while True:
+        new = np.where(adj, lab[None, :], T).min(axis=1)
+        if np.array_equal(new, lab):
+            break
+        lab = new
+    meas_lab = np.where(A.any(axis=1), np.where(A, lab[None, :], T).min(axis=1), -1)
     out = []
-    for c in np.unique(lab[m:]):
-        meas = np.flatnonzero(lab[:m] == c) + 1
-        targ = np.flatnonzero(lab[m:] == c)
-        out.append((meas, targ))
+    for c in np.unique(lab):
+        out.append((np.flatnonzero(meas_lab == c) + 1, np.flatnonzero(lab == c)))
     return out
 
 
