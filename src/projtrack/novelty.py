@@ -202,7 +202,7 @@ def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
     Parameters
     ----------
-    frames : array_like, shape (I, *frame_shape)
+    frames : array_like, shape (I, H, W) or (I, ...)
         The image sequence (any real dtype).
     center : bool
         Subtract the mean image (covariance, KL proper) or not (correlation, Section 3).
@@ -243,7 +243,7 @@ def batch_kl(frames: Any, center: bool = False, n_components: int | None = None,
 
     Parameters
     ----------
-    frames : array_like, shape (I, *frame_shape)
+    frames : array_like, shape (I, H, W) or (I, ...)
     center : bool
         Remove the sample mean first (covariance matrix ``C``) or not (correlation ``R``).
     n_components : int, optional
@@ -345,7 +345,7 @@ class RecursiveSVD:
     Attributes
     ----------
     eigenvalues_ : ndarray (K,)
-    eigenimages_ : ndarray (K, *frame_shape), unit norm
+    eigenimages_ : ndarray (K, ...) shaped like the frames, unit norm
     n_frames_seen_ : int
     """
 
@@ -428,7 +428,7 @@ class NoveltyFilter:
     eigenvalues_ : ndarray (K,)
         Eigenvalues ``lambda_{i,k}`` of the VIP matrix ``V_i`` kept after the last update
         (the correlation matrix of the ``i`` novel frames, Eq. (4)), descending.
-    eigenimages_ : ndarray (K, *frame_shape)
+    eigenimages_ : ndarray (K, ...) shaped like the frames
         Unit-norm eigenimages (orthonormal when flattened), pixel sum >= 0.
     components_ : ndarray (K, n_pixels)
         The same, flattened (scikit-learn convention).
@@ -649,7 +649,7 @@ def process_sequence(frames: Any, novelty_threshold: float, information_threshol
 
     Parameters
     ----------
-    frames : array_like, shape (I, *frame_shape)
+    frames : array_like, shape (I, H, W) or (I, ...)
     novelty_threshold, information_threshold : float
         ``T_d`` and ``T_I``.
     pixel_threshold : float

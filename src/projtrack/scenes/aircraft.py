@@ -11,7 +11,7 @@ training images at 10-degree roll steps).  Each model is a few parts:
 Body axes: ``x`` forward (fuselage from ``x = -0.5`` to ``0.5``), ``y`` starboard wing, ``z``
 up.  :func:`render` rolls the model by ``roll_deg`` about ``x`` and projects it
 orthographically on an image seen from above (``-z``): roll 0 shows the planform, roll 90
-the side view.  Faces are flat-shaded (ambient 0.25 + 0.75 |n . l|, fixed light direction)
+the side view.  Faces are flat-shaded (ambient 0.25 + 0.75 ``|n . l|``, fixed light direction)
 and z-buffered; the background is 0.  Images are rendered at ``supersample`` times the size
 and block-averaged (anti-aliasing), then quantized to uint8.
 
