@@ -794,13 +794,12 @@ def space_integrating_correlator(inputs: np.ndarray, references: np.ndarray, *,
                      np.exp(-2j * np.pi * car[:, None] * xi[None, :]))  # (N, M*oversample)
     T = L + M - 1
     padded = np.concatenate([np.zeros((K, M - 1)), x, np.zeros((K, M - 1))], axis=1)
-    out = np.empty((N, T))
-    for t in range(T):
-        # the cell holds s_k(t - xi) on its carrier exp(2 pi i c_k (xi - t)); exp(-2 pi i c_k t) = 1
-        samples = padded[:, t + (M - 1) - cell]  # (K, M*oversample)
-        field = np.sum(samples * np.exp(2j * np.pi * car[:, None] * xi[None, :]), axis=0)
-        out[:, t] = np.real(mask @ field) / oversample
-    return out
+    carrier = np.exp(2j * np.pi * car[:, None] * xi[None, :])  # (K, M*oversample)
+    # at time step t the cell holds s_k(t - xi) on its carrier exp(2 pi i c_k (xi - t)),
+    # and exp(-2 pi i c_k t) = 1 at integer t: one row of `field` per time step
+    samples = padded[:, np.arange(T)[:, None] + (M - 1) - cell[None, :]]  # (K, T, M*oversample)
+    field = np.einsum("ktm,km->tm", samples, carrier)
+    return np.real(field @ mask.T).T / oversample
 
 
 def time_integrating_correlator(test: np.ndarray, references: np.ndarray, *, bias: float | None = None) -> np.ndarray:
