@@ -154,3 +154,37 @@ def test_scene_is_deterministic_and_validates():
         scene.crossing_targets(7)
     with pytest.raises(ValueError):
         scene.crossing_targets(np.random.default_rng(0), p_detect=0)
+
+
+def test_random_mvm_full_and_clustered():
+    w = scene.random_mvm(np.random.default_rng(0), 8, 8)
+    assert w.shape == (9, 8) and np.all(w[1:] > 0) and np.allclose(w[0], 0.1)
+    wc = scene.random_mvm(np.random.default_rng(0), 8, 8, cluster_size=4)
+    assert len(jpda.clusters(wc)) == 2
+    np.testing.assert_allclose(jpda.beta(wc), jpda.beta_paper(wc), atol=1e-12)
+    with pytest.raises(ValueError):
+        scene.random_mvm(np.random.default_rng(0), 3, 0)
+    with pytest.raises(ValueError):
+        scene.random_mvm(np.random.default_rng(0), 3, 3, cluster_size=0)
+
+
+def test_score_tracks_detects_swaps_and_losses():
+    truth = np.zeros((5, 2, 4))
+    truth[:, 1, 0] = 10.0
+    est = truth.copy()
+    assert scene.score_tracks(est, truth) == {"rmse": 0.0, "swapped": 0, "lost": 0}
+    swapped = est[:, ::-1]
+    s = scene.score_tracks(swapped, truth)
+    assert s["swapped"] == 2 and s["lost"] == 0 and s["rmse"] == pytest.approx(10.0)
+    far = est.copy()
+    far[-1, 0, 2] = 50.0
+    assert scene.score_tracks(far, truth)["lost"] == 1
+    with pytest.raises(ValueError, match="same shape"):
+        scene.score_tracks(est[:, :1], truth)
+
+
+def test_tracking_trial_is_reproducible():
+    a = scene.tracking_trial(np.random.default_rng(1), n_steps=8)
+    b = scene.tracking_trial(np.random.default_rng(1), n_steps=8)
+    assert a == b
+    assert set(a) == {"jpda", "gnn"}
