@@ -32,7 +32,7 @@ def brute_project(image: np.ndarray, theta: float) -> tuple[np.ndarray, np.ndarr
     return np.array(keys), np.array([acc[k] for k in keys])
 
 
-@pytest.mark.parametrize("theta", [0.0, 45.0, 90.0, 135.0])
+@pytest.mark.parametrize("theta", [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, -90.0])
 def test_project_matches_bruteforce_lattice(theta):
     rng = np.random.default_rng(1)
     img = rng.normal(size=(5, 7))
@@ -71,7 +71,7 @@ def test_project_preserves_sum(img, theta):
 def test_project_stack_equals_loop():
     rng = np.random.default_rng(2)
     stack = rng.normal(size=(4, 6, 5))
-    for t in (0, 45, 33.3):
+    for t in (0, 45, 90, 180, 270, 33.3):
         assert np.allclose(C.project_stack(stack, t), [C.project(s, t) for s in stack])
 
 

@@ -209,7 +209,7 @@ def _snap_floor(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return k.astype(np.int64), w
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=16)
 def _operator(shape: tuple[int, int], theta: float) -> tuple[scipy.sparse.csr_matrix, np.ndarray]:
     """Sparse projection matrix ``(n_bins, H * W)`` and the ``r`` of each bin."""
     H, W = shape
@@ -263,7 +263,20 @@ def projection_axis(shape: tuple[int, int], theta_deg: float) -> np.ndarray:
     if (not isinstance(shape, tuple) or len(shape) != 2
             or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v > 0 for v in shape)):
         raise ValueError(f"shape must be a tuple (H, W) of positive ints, got {shape!r}")
-    return _operator((int(shape[0]), int(shape[1])), _as_angle(theta_deg))[1].copy()
+    return _axis((int(shape[0]), int(shape[1])), _as_angle(theta_deg))
+
+
+def _axis(shape: tuple[int, int], theta: float) -> np.ndarray:
+    """Bin positions of :func:`_operator` without building the operator."""
+    H, W = shape
+    if is_lattice_angle(theta):
+        a, b, step = _lattice(theta)
+        t0 = int(min(0, a * (W - 1))) - int(max(0, b * (H - 1)))
+        t1 = int(max(0, a * (W - 1))) - int(min(0, b * (H - 1)))
+        centre = a * (W - 1) / 2.0 - b * (H - 1) / 2.0
+        return step * (np.arange(t0, t1 + 1) - centre)
+    kmin, kmax = _general_range(shape, theta)
+    return np.arange(kmin, kmax + 1, dtype=float)
 
 
 def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
@@ -291,7 +304,15 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
         Bin positions in pixels, 0 at the centre of the array.
     """
     arr = _as_image(image, "image")
-    mat, r = _operator(arr.shape, _as_angle(theta_deg))
+    theta = _as_angle(theta_deg)
+    if is_lattice_angle(theta) and int(round(theta / 45.0)) % 2 == 0:
+        # axis-aligned: plain row/column sums (same bins as the general operator)
+        a, b, _ = _lattice(theta)
+        p = arr.sum(axis=0) if b == 0 else arr.sum(axis=1)
+        if a == -1 or b == 1:
+            p = p[::-1]
+        return (p, _axis(arr.shape, theta)) if return_r else p
+    mat, r = _operator(arr.shape, theta)
     p = mat @ arr.ravel()
     return (p, r.copy()) if return_r else p
 
@@ -390,7 +411,7 @@ def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, re
     pg, rg = project(g, theta, return_r=True)
     c = scipy.signal.correlate(pf, pg, mode="full", method="fft")
     plane = _plane_shape(f, g)
-    r_out = projection_axis(plane, theta)
+    r_out = _axis(plane, theta)
     if is_lattice_angle(theta):
         out = c  # same length and the same bins, exactly (see the module docstring)
     else:
