@@ -474,6 +474,42 @@ def _rank(A: np.ndarray) -> int:
     return int(np.linalg.matrix_rank(A))
 
 
+class _LSI:
+    """Lawson-Hanson LSI solver for a fixed ``(E, f)``: the QR factorization is computed once."""
+
+    def __init__(self, E: np.ndarray, f: np.ndarray):
+        E = np.asarray(E, float)
+        f = np.asarray(f, float)
+        if E.ndim != 2 or f.shape != (E.shape[0],):
+            raise ValueError(f"E must be 2-D and f a vector of length E.shape[0], got {E.shape} and {f.shape}")
+        Q, R = np.linalg.qr(E)
+        d = np.abs(np.diag(R))
+        if E.shape[0] < E.shape[1] or d.min() <= 1e-12 * max(1.0, float(d.max())):
+            raise ValueError("E must have full column rank for the LSI reduction")
+        # R is small (n(n+1)/2 square): keep its inverse so that each solve is matrix products
+        self.Rinv = scipy.linalg.solve_triangular(R, np.eye(R.shape[0]))
+        self.x_ls = self.Rinv @ (Q.T @ f)
+
+    def solve(self, G: np.ndarray, h: np.ndarray) -> np.ndarray:
+        if G.shape[0] == 0:
+            return self.x_ls
+        ht = h - G @ self.x_ls
+        if np.all(ht <= 0):
+            return self.x_ls
+        Gt = G @ self.Rinv
+        p = Gt.shape[1]
+        scale = max(1.0, float(np.max(np.abs(ht))))
+        Emat = np.vstack([Gt.T, ht[None, :] / scale])
+        fvec = np.zeros(p + 1)
+        fvec[-1] = 1.0
+        u, _ = scipy.optimize.nnls(Emat, fvec, maxiter=50 * Emat.shape[1] + 100)
+        r = Emat @ u - fvec
+        if abs(r[-1]) < 1e-14:
+            raise ValueError("the linear inequality constraints are infeasible")
+        z = -r[:-1] / r[-1] * scale
+        return self.x_ls + self.Rinv @ z
+
+
 def lsi(E: np.ndarray, f: np.ndarray, G: np.ndarray, h: np.ndarray) -> np.ndarray:
     """Least squares with linear inequality constraints: ``min ||E x - f|| s.t. G x >= h``.
 
@@ -486,29 +522,9 @@ def lsi(E: np.ndarray, f: np.ndarray, G: np.ndarray, h: np.ndarray) -> np.ndarra
     ValueError
         If ``E`` is rank deficient or the constraints are infeasible.
     """
-    E = np.asarray(E, float)
-    f = np.asarray(f, float)
-    Q, R = np.linalg.qr(E)
-    if np.min(np.abs(np.diag(R))) <= 1e-12 * max(1.0, float(np.max(np.abs(np.diag(R))))):
-        raise ValueError("E must have full column rank for the LSI reduction")
-    x_ls = scipy.linalg.solve_triangular(R, Q.T @ f)
-    if G.shape[0] == 0:
-        return x_ls
-    Gt = scipy.linalg.solve_triangular(R, G.T, trans="T").T  # G R^{-1}
-    ht = h - G @ x_ls
-    if np.all(ht <= 0):
-        return x_ls
-    p = Gt.shape[1]
-    scale = max(1.0, float(np.max(np.abs(ht))))
-    Emat = np.vstack([Gt.T, ht[None, :] / scale])
-    fvec = np.zeros(p + 1)
-    fvec[-1] = 1.0
-    u, _ = scipy.optimize.nnls(Emat, fvec, maxiter=50 * Emat.shape[1] + 100)
-    r = Emat @ u - fvec
-    if abs(r[-1]) < 1e-14:
-        raise ValueError("the linear inequality constraints are infeasible")
-    z = -r[:-1] / r[-1] * scale
-    return x_ls + scipy.linalg.solve_triangular(R, z)
+    G = np.asarray(G, float)
+    h = np.asarray(h, float)
+    return _LSI(E, f).solve(G.reshape(-1, np.shape(E)[1]), h.reshape(-1))
 
 
 @dataclass
@@ -608,19 +624,25 @@ def halfspace_reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: obj
     history = []
     X = None
     converged = False
+    solver = _LSI(A, y)
+    G_rows: list[np.ndarray] = []
+    h_rows: list[float] = []
+
+    def add_lower(v: np.ndarray) -> None:
+        G_rows.append(svec(np.outer(v, v)))
+        h_rows.append(float(v @ L @ v))
+
+    def add_upper(v: np.ndarray) -> None:
+        G_rows.append(-svec(np.outer(v, v)))
+        h_rows.append(-float(v @ U @ v))
+
+    for v in vl:
+        add_lower(v)
+    for v in vu:
+        add_upper(v)
     for it in range(1, max_iter + 1):
-        G_rows, h_rows = [], []
-        for v in vl:
-            nv = svec(np.outer(v, v))
-            G_rows.append(nv)
-            h_rows.append(float(v @ L @ v))
-        for v in vu:
-            nv = svec(np.outer(v, v))
-            G_rows.append(-nv)
-            h_rows.append(-float(v @ U @ v))
         G = np.array(G_rows).reshape(-1, A.shape[1])
-        h = np.array(h_rows)
-        x = lsi(A, y, G, h)
+        x = solver.solve(G, np.array(h_rows))
         X = smat(x)
         scale = tol * max(1.0, float(np.linalg.norm(X, 2)))
         new_l, new_u = [], []
@@ -638,8 +660,12 @@ def halfspace_reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: obj
         if not new_l and not new_u:
             converged = True
             break
-        vl += new_l
-        vu += new_u
+        for v in new_l:
+            vl.append(v)
+            add_lower(v)
+        for v in new_u:
+            vu.append(v)
+            add_upper(v)
     assert X is not None
     return HalfspaceResult(X=X, n_iter=len(history), converged=converged, normals_lower=vl,
                            normals_upper=vu, history=history)
