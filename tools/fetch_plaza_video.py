@@ -43,7 +43,10 @@ FG_FRACTION = 0.02  # a person "is in the foreground" when > 2 % of the lower ha
 def download_vtest(workdir: pathlib.Path, deb: pathlib.Path | None = None) -> pathlib.Path:
     """Download (or use ``deb``) the opencv-doc package, unpack it, return vtest.avi's path."""
     if deb is None:
-        subprocess.run(["apt-get", "download", "opencv-doc"], cwd=workdir, check=True)
+        done = subprocess.run(["apt-get", "download", "opencv-doc"], cwd=workdir)
+        if done.returncode != 0:
+            raise SystemExit("apt-get download opencv-doc failed; run `apt-get update` once "
+                             "(the package lists may be missing) and try again")
         debs = sorted(workdir.glob("opencv-doc_*.deb"))
         if not debs:
             raise SystemExit("apt-get download opencv-doc produced no .deb (run apt-get update?)")
