@@ -232,3 +232,21 @@ def test_optical_processor_equals_direct_stage(m, T, q):
     np.testing.assert_allclose(optical, direct, rtol=1e-14)
     with pytest.raises(ValueError, match="rng"):
         jpda.optical_vip_stage(vec, col, sched, len(new_words), noise_std=0.1)
+
+
+def test_threaded_backward_sweep_matches_paper_method(monkeypatch):
+    rng = np.random.default_rng(9)
+    w = np.vstack([rng.uniform(0.05, 0.5, (1, 11)), rng.uniform(0, 1, (12, 11))])
+    serial = jpda.beta_forward_backward(w)
+    monkeypatch.setattr(jpda, "_THREAD_MIN_BITS", 4)
+    threaded = jpda.beta_forward_backward(w)
+    np.testing.assert_array_equal(threaded, serial)
+    np.testing.assert_allclose(threaded, jpda.beta_paper(w), atol=1e-12)
+
+
+def test_operation_count_of_the_sweep_is_recorded():
+    ops = jpda.OpCount()
+    jpda.beta(np.vstack([np.full((1, 7), 0.5), np.ones((7, 7))]), ops=ops)
+    assert ops.additions > 0 and ops.multiplications > 0
+    assert ops.additions + ops.multiplications < sum(
+        (lambda c: (c.additions, c.multiplications))(jpda.conventional_op_count(7, 7)))
