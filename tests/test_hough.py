@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from projtrack.hough import (
     PULSE_ZERO_VALUE, TrackInitiator, accuracy_experiment, detect_peaks, estimate_track, evaluate_initiation,
-    find_peaks, hough_axes, hough_transform, hough_transform_image, local_average, match_lines,
+    find_peaks, hough_axes, line_through, window_neighbours, hough_transform, hough_transform_image, local_average, match_lines,
     project_and_correlate, pulse_correlation, rotate_integrate_hough, strip_projection,
     thresholded_hough_transform, track_covariance,
 )
@@ -447,3 +447,18 @@ def test_bad_projection_and_estimation_inputs():
         match_lines([(0, 0)], [[1, 1], [2, 2]], [0], SHAPE)
     with pytest.raises(ValueError, match="p_detect"):
         TrackInitiator(p_detect=1.5)
+
+
+@settings(max_examples=30, deadline=None)
+@given(rho=st.floats(-80, 80), theta=st.floats(0, 179.9))
+def test_line_through_recovers_the_line(rho, theta):
+    pts = line_points(rho, theta, np.linspace(-50, 50, 11))
+    r, t = line_through(pts, SHAPE)
+    assert same_line((r, t), (rho, theta), drho=1e-6, dtheta=1e-6) or same_line((r, t), (rho, theta), 1e-3, 1e-3)
+
+
+def test_window_neighbours():
+    assert list(window_neighbours([(0, 10), (3, 11), (40, 0.5), (-40, 179)])) == [True, True, True, True]
+    assert list(window_neighbours([(0, 10), (10, 10), (0, 20)])) == [False, False, False]
+    with pytest.raises(ValueError):
+        line_through([[1.0, 1.0]], SHAPE)

@@ -70,6 +70,8 @@ __all__ = [
     "match_lines",
     "evaluate_initiation",
     "accuracy_experiment",
+    "line_through",
+    "window_neighbours",
 ]
 
 #: Value given to empty projection samples in the pulse correlation (Sec. III).
@@ -1216,4 +1218,51 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
             "n_confirmed": n_conf, "n_fallback": n_fb}
     if return_errors:
         out["errors"] = E
+    return out
+
+
+def line_through(points: object, shape: tuple[int, int], *, origin: str = "center") -> tuple[float, float]:
+    """Total-least-squares line through ``points`` as ``(rho, theta_deg)`` in the HT's convention.
+
+    ``theta_deg`` lies in [0, 180); ``rho`` is measured from the origin of
+    :func:`hough_transform`. Used to compare a target's true track with the Hough plane.
+    """
+    shape = _check_shape(shape)
+    pts = _check_points(points, shape)
+    if pts.shape[0] < 2:
+        raise ValueError("points must hold at least two points to define a line")
+    cx, cy = _origin_xy(shape, _check_origin(origin))
+    c = pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(pts - c, full_matrices=False)
+    n = vt[-1]
+    th = float(np.arctan2(n[1], n[0]))
+    if th < 0:
+        th += np.pi
+        n = -n
+    if th >= np.pi:
+        th -= np.pi
+        n = -n
+    rho = float((c - np.array([cx, cy])) @ np.array([np.cos(th), np.sin(th)]))
+    return rho, float(np.rad2deg(th))
+
+
+def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0, dtheta_deg: float = 1.0,
+                      size: int = 5) -> np.ndarray:
+    """For each line, whether another line falls inside its ``size x size`` averaging window.
+
+    Two lines share a window when ``|rho_1 - rho_2| <= (size // 2) drho`` and their angles
+    differ by at most ``(size // 2) dtheta`` (taking ``(rho, theta + 180) = (-rho, theta)``
+    into account): the second line then raises the local average of the first's peak.
+    """
+    k = size // 2
+    L = np.asarray(lines, dtype=float).reshape(-1, 2)
+    out = np.zeros(len(L), dtype=bool)
+    for a in range(len(L)):
+        for b in range(len(L)):
+            if a == b:
+                continue
+            (r1, t1), (r2, t2) = L[a], L[b]
+            direct = abs(r1 - r2) <= k * drho and abs(t1 - t2) <= k * dtheta_deg
+            wrapped = abs(r1 + r2) <= k * drho and abs(abs(t1 - t2) - 180.0) <= k * dtheta_deg
+            out[a] |= bool(direct or wrapped)
     return out
