@@ -32,7 +32,6 @@ makes ``svec`` an isometry: ``<A, B> = tr(A^T B) = svec(A) . svec(B)``.
 
 from __future__ import annotations
 
-import time
 import warnings
 from dataclasses import dataclass, field
 from typing import Sequence
@@ -699,14 +698,17 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     if upper is not None:
         cons.append(upper - X >> 0)
     prob = cp.Problem(cp.Minimize(cp.sum_squares(A @ x - y)), cons)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # an inaccurate solution must not pass silently
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         try:
             prob.solve(solver=solver, **solver_options)
-        except (cp.error.SolverError, UserWarning) as exc:
+        except cp.error.SolverError as exc:
             raise RuntimeError(f"the SDP solver {solver} failed: {exc}") from None
+    # an inaccurate solution must not pass silently: anything but OPTIMAL is an error
     if prob.status != cp.OPTIMAL:
-        raise RuntimeError(f"the SDP solver {solver} returned status {prob.status}")
+        raise RuntimeError(f"the SDP solver {solver} returned status {prob.status!r}; tighten or change the solver")
+    for w in caught:  # other warnings (none expected) are passed on to the caller
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     Xv = np.asarray(X.value, float)
     return (Xv + Xv.T) / 2
 
@@ -730,6 +732,10 @@ def reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: object = None
         ``"halfspace"``: Algorithm 1 of the Appendix (see :func:`halfspace_reconstruct`
         for the iteration history); ``"sdp"``: the same problem by cvxpy/Clarabel
         (:func:`sdp_reconstruct`). With no bound the constrained methods equal ``"ls"``.
+        The two constrained methods agree to a relative Frobenius distance of 1e-3 and a
+        relative objective gap of 1e-6 (tested; typically 1e-5 and 1e-8): Algorithm 1
+        stops slightly outside the interval (eigenvalues >= -1e-9 ||X||), the interior
+        point solution lies slightly inside it.
     rank_deficient : {"raise", "warn"}
         What ``"ls"`` does when the stacked operator of eq. (14) has rank below
         ``n(n+1)/2`` (Sec. 5.1: no unique solution): raise ``ValueError`` (default) or emit
@@ -1065,13 +1071,3 @@ def kalman_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obj
     X_psd = np.array([nearest_psd(Xk) for Xk in X])
     n_not = int(sum(not is_psd(Xk) for Xk in X))
     return KalmanResult(X=X, X_psd=X_psd, P=np.array(Ps), n_not_psd=n_not)
-
-
-def timed(fn, *args, repeat: int = 3, **kwargs):  # pragma: no cover - benchmarking helper
-    """Best-of-``repeat`` wall time of ``fn(*args, **kwargs)``; returns ``(seconds, result)``."""
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn(*args, **kwargs)
-        best = min(best, time.perf_counter() - t0)
-    return best, out
