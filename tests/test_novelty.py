@@ -123,10 +123,15 @@ def test_td0_ti1_reproduces_batch_eigendecomposition(n, h, w, seed):
 @given(seed=st.integers(0, 10**6), td=st.floats(0, 0.2), ti=st.floats(0.5, 1.0))
 def test_novelty_in_unit_interval_and_orthogonal(seed, td, ti):
     rng = np.random.default_rng(seed)
-    x = rng.random((8, 4, 4)) ** 3
+    x = rng.random((8, 4, 4)) ** 3 + rng.random() * np.ones((8, 4, 4))
     f = nv.NoveltyFilter(td, ti)
     for frame in x:
+        before = (f.eigenvalues_, f.eigenimages_, f.n_updates_) if f.n_frames_seen_ else None
         n, novel = f.partial_fit(frame)
+        if not novel:       # a non-novel frame leaves the model unchanged
+            np.testing.assert_array_equal(f.eigenvalues_, before[0])
+            np.testing.assert_array_equal(f.eigenimages_, before[1])
+            assert f.n_updates_ == before[2]
         assert 0.0 <= n <= 1.0
         assert novel == (n > td) or f.n_frames_seen_ == 1
         e = f.components_
