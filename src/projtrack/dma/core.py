@@ -673,7 +673,7 @@ def learn_manifold(
         Vm = V[:, :m]
         loc = (X[regions == k] - means[k]) @ Vm
         k_eff = min(K, len(np.unique(np.round(loc, 12), axis=0)))
-        km = KMeans(n_clusters=k_eff, n_init=4, random_state=int(rng.integers(0, 2**31 - 1)))
+        km = KMeans(n_clusters=k_eff, n_init=2, random_state=int(rng.integers(0, 2**31 - 1)))
         km.fit(loc)
         C = km.cluster_centers_
         C = C[np.lexsort(C.T[::-1])]
@@ -1059,8 +1059,15 @@ class ActivePixelSensor(SensorModel):
         if A.shape[0] == 0:
             raise ValueError("fit_c needs at least one training frame")
         L = _check_int(box, "box")
-        sensor = ActivePixelSensor(P, L, 2.0)
-        inside = np.array([sensor.counts(A[t])[t] for t in range(len(A))]).sum()
+        N, Hh, W = A.shape
+        h = L // 2
+        I = np.zeros((N, Hh + 1, W + 1))
+        I[:, 1:, 1:] = np.cumsum(np.cumsum(A, axis=1, dtype=float), axis=2)
+        rc = np.rint(P).astype(np.int64)
+        r0, r1 = np.clip(rc[:, 0] - h, 0, Hh), np.clip(rc[:, 0] + h + 1, 0, Hh)
+        c0, c1 = np.clip(rc[:, 1] - h, 0, W), np.clip(rc[:, 1] + h + 1, 0, W)
+        t = np.arange(N)
+        inside = float((I[t, r1, c1] - I[t, r0, c1] - I[t, r1, c0] + I[t, r0, c0]).sum())
         n_in = L * L * len(A)
         n_out = A[0].size * len(A) - n_in
         q1 = (inside + 1) / (n_in + 2)

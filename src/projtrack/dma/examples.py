@@ -26,7 +26,6 @@ from projtrack.dma.core import (
     DiscreteManifold,
     LinearGaussianSensor,
     RangeCosineSensor,
-    estimate_start,
     estimate_transitions,
     forward_backward,
     forward_filter,
