@@ -42,6 +42,7 @@ import numpy as np
 __all__ = [
     "count_feasible_events",
     "iter_feasibility_matrices",
+    "feasibility_matrices",
     "gate_threshold",
     "mahalanobis_sq",
     "validation_matrix",
