@@ -953,13 +953,20 @@ class TrackInitiator:
     heading_hint : (float, float)
         Prior direction of motion used to orient ``x'`` (climbing targets: +y).
 
-    Attributes (after :meth:`initiate`)
-    -----------------------------------
-    H_, rhos_, thetas_deg_ : ndarray
-        The Hough plane used.
+    Attributes
+    ----------
+    H_ : ndarray
+        The Hough plane of the last :meth:`initiate` call.
+    rhos_ : ndarray
+        Its ``rho`` axis.
+    thetas_deg_ : ndarray
+        Its ``theta`` axis, degrees.
     peaks_ : list of HoughPeak
+        The detected peaks.
     tracks_ : list of TrackEstimate
         One per peak, confirmed or not.
+    frame_time_ : float
+        The frame time ``T`` of the last stack.
     """
 
     def __init__(self, *, drho: float = 2.0, dtheta_deg: float = 1.0, thresholded: bool = False,
