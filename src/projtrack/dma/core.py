@@ -21,9 +21,7 @@ Processing, 2002 (the *discrete manifold analysis*, DMA, algorithm):
   :func:`forward_backward`, all in log space and working with dense or sparse transition
   matrices; the :class:`DMA` estimator ties everything together.
 
-Log-probability conventions
----------------------------
-Transition matrices passed to the retrieval functions hold *log*-probabilities. A dense
+**Log-probability conventions.** Transition matrices passed to the retrieval functions hold *log*-probabilities. A dense
 array uses ``-inf`` for impossible transitions. For a :mod:`scipy.sparse` matrix only
 the *stored* entries are transitions: an absent (implicit) entry means an impossible
 transition (log-probability ``-inf``), while an explicitly stored ``0.0`` means
