@@ -68,7 +68,7 @@ __all__ = [
     "zero_mean", "normalize_energy", "is_lattice_angle", "projection_axis", "project",
     "project_stack", "projection_spectrum", "fourier_slice", "correlate1d", "correlate2d",
     "projection_correlation", "integrated_correlation", "psr", "snr", "snr_db", "peak_stats",
-    "ProjectionCorrelationClassifier", "Correlation2DClassifier", "backprojection_min",
+    "CorrelationFilterBank", "ProjectionCorrelationClassifier", "Correlation2DClassifier", "backprojection_min",
     "locate_objects", "space_integrating_correlator", "time_integrating_correlator",
 ]
 
@@ -528,8 +528,19 @@ def _batch_correlate1d(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.fft.irfft(A[:, None, :] * B[None, :, :], nfft)[..., :L]
 
 
-class _BankBase:
-    """Shared fit/predict logic of the correlation filter banks."""
+class CorrelationFilterBank:
+    """Base class of the correlation filter banks: one reference filter per class.
+
+    Subclasses define ``_build`` (prepare the filters) and ``decision_function`` (one
+    score per image and class); :meth:`fit`, :meth:`predict` and :meth:`score` are shared.
+
+    Parameters
+    ----------
+    zero_mean : bool
+        Remove the mean of filters and inputs (Sec. III.B).
+    normalize : bool
+        Scale filters and inputs to unit energy (Sec. III.C).
+    """
 
     def __init__(self, zero_mean: bool = True, normalize: bool = True):
         self.zero_mean = zero_mean
@@ -574,6 +585,13 @@ class _BankBase:
             raise ValueError(f"X images must have shape {self.shape_}, got {X.shape[1:]}")
         return self._prepare(X)
 
+    def _build(self) -> None:
+        """Prepare the filters after :meth:`fit` (subclasses)."""
+
+    def decision_function(self, X: np.ndarray) -> np.ndarray:
+        """One score per image and class (defined by the subclasses)."""
+        raise NotImplementedError("use ProjectionCorrelationClassifier or Correlation2DClassifier")
+
     def predict(self, X: np.ndarray) -> np.ndarray:
         """Class with the largest score (:meth:`decision_function`) for each image."""
         scores = self.decision_function(X)
@@ -584,7 +602,7 @@ class _BankBase:
         return float(np.mean(self.predict(X) == np.asarray(y)))
 
 
-class ProjectionCorrelationClassifier(_BankBase):
+class ProjectionCorrelationClassifier(CorrelationFilterBank):
     """Bank of 1-D projection-correlation filters, one set per class (Sec. III.C).
 
     Each class keeps the projections of its (zero-mean, unit-energy) reference at the
@@ -645,7 +663,7 @@ class ProjectionCorrelationClassifier(_BankBase):
         return self.peak_scores(X).sum(axis=2)
 
 
-class Correlation2DClassifier(_BankBase):
+class Correlation2DClassifier(CorrelationFilterBank):
     """The same filter bank with full 2-D bipolar correlations: score = largest 2-D peak.
 
     Parameters
