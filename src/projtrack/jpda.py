@@ -656,6 +656,7 @@ def fast_op_count(m: int, T: int, store_intermediates: bool = False) -> OpCount:
 
 
 _THREAD_MIN_BITS = 14  # overlap gradients and backward messages from 2^14 states on
+_SPARSE_MAX_HIGH_BITS = 16  # up to 2^16 rows the high bits use one sparse product
 _LOW_BITS = 5  # the lowest bits of a subset index are handled by a small dense matrix (BLAS)
 
 
@@ -699,7 +700,8 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
     paper's target vectors) give the gradient as inner products
     ``dZ/dW[i, k] = sum_{S not containing k} F_{i-1}[S] G_i[S + k]``.
     The lowest ``_LOW_BITS`` bits of every item are applied as one small dense
-    matrix product (BLAS), the others as strided vector updates.
+    matrix product (BLAS) on a ``(2^n / 32, 32)`` view, the others as one sparse
+    product on its rows (or as strided vector updates when there are too many rows).
     """
     n_it, n = W.shape
     N = 1 << n
@@ -713,16 +715,34 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
     n_mul = n_add = 0
     high = [np.flatnonzero(W[i, nl:]) + nl for i in range(n_it)]
     Ms = [_low_matrix(u[i], W[i], nl) for i in range(n_it)]
+    raise_high = lower_high = None
+    if 0 < n - nl <= _SPARSE_MAX_HIGH_BITS:
+        # the high bits as one sparse "raising" matrix on the rows of the (rows, B)
+        # layout: row h | bit gets row h (h without the bit) times W[i, bit]
+        from scipy.sparse import csr_matrix
+
+        h = np.arange(rows)
+        src = np.concatenate([h[(h >> b) & 1 == 0] for b in range(n - nl)])
+        bit = np.concatenate([np.full(rows >> 1, b) for b in range(n - nl)])
+        pat = csr_matrix((bit + 1.0, (src | (1 << bit), src)), shape=(rows, rows))
+        bit_of_nnz = pat.data.astype(np.int64) - 1
+        raise_high = pat
+        lower_high = csr_matrix((bit + 1.0, (src, src | (1 << bit))), shape=(rows, rows))
+        bit_of_nnz_T = lower_high.data.astype(np.int64) - 1
     for i in range(n_it):
         Fi = F[i]
         new = F[i + 1]
         np.matmul(Fi.reshape(rows, B), Ms[i], out=new.reshape(rows, B))
-        for k in high[i]:
-            shp = (N >> (k + 1), 2, 1 << k)
-            tmp = buf.reshape(N >> (k + 1), 1 << k)
-            np.multiply(Fi.reshape(shp)[:, 0, :], W[i, k], out=tmp)
-            dst = new.reshape(shp)[:, 1, :]
-            np.add(dst, tmp, out=dst)
+        if raise_high is not None and len(high[i]):
+            raise_high.data = W[i, nl + bit_of_nnz]
+            new.reshape(rows, B)[...] += raise_high @ Fi.reshape(rows, B)
+        else:
+            for k in high[i]:
+                shp = (N >> (k + 1), 2, 1 << k)
+                tmp = buf.reshape(N >> (k + 1), 1 << k)
+                np.multiply(Fi.reshape(shp)[:, 0, :], W[i, k], out=tmp)
+                dst = new.reshape(shp)[:, 1, :]
+                np.add(dst, tmp, out=dst)
         nz = int(np.count_nonzero(W[i]))
         n_mul += N + nz * (N >> 1)
         n_add += nz * (N >> 1)
@@ -761,12 +781,16 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
         for i in range(n_it - 1, -1, -1):
             job = pool.submit(gradients, i, G) if pool else gradients(i, G)
             np.matmul(G.reshape(rows, B), Ms[i].T, out=Gn.reshape(rows, B))
-            for k in high[i]:
-                shp = (N >> (k + 1), 2, 1 << k)
-                tmp = buf.reshape(N >> (k + 1), 1 << k)
-                np.multiply(G.reshape(shp)[:, 1, :], W[i, k], out=tmp)
-                dst = Gn.reshape(shp)[:, 0, :]
-                np.add(dst, tmp, out=dst)
+            if lower_high is not None and len(high[i]):
+                lower_high.data = W[i, nl + bit_of_nnz_T]
+                Gn.reshape(rows, B)[...] += lower_high @ G.reshape(rows, B)
+            else:
+                for k in high[i]:
+                    shp = (N >> (k + 1), 2, 1 << k)
+                    tmp = buf.reshape(N >> (k + 1), 1 << k)
+                    np.multiply(G.reshape(shp)[:, 1, :], W[i, k], out=tmp)
+                    dst = Gn.reshape(shp)[:, 0, :]
+                    np.add(dst, tmp, out=dst)
             if pool:
                 job.result()
             nz = int(np.count_nonzero(W[i]))
