@@ -133,9 +133,9 @@ def main() -> None:
         cells = " ".join(f"{t[k]:15.2e}" if np.isfinite(t[k]) else f"{'-':>15}" for k in names)
         r1 = t["enumerate"] / t["auto"]
         r2 = t["stonesoup EHM"] / t["auto"]
-        print(f"{n:3d} {ev:14d} {cells} "
-              + (f"{r1:10.0f}" if np.isfinite(r1) else f"{'-':>10}")
-              + (f" {r2:9.0f}" if np.isfinite(r2) else f" {'-':>9}"))
+        print(f"{n:3d} {ev:14.3g} {cells} "
+              + (f"{r1:10.3g}" if np.isfinite(r1) else f"{'-':>10}")
+              + (f" {r2:9.3g}" if np.isfinite(r2) else f" {'-':>9}"))
     t16 = [t for n, _, t in rows if n == 16][0]["auto"]
     t20 = [t for n, _, t in rows if n == 20][0]["auto"]
     print(f"\ntargets: m = T = 16 in {t16:.3f} s (< 0.1 s: {t16 < 0.1}); "

@@ -904,8 +904,7 @@ def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np
     over clusters ``c``, and ``O(max(m_c, T_c) 2^min(m_c, T_c))`` memory; exact JPDA is
     #P-hard, so exponential in ``min(m, T)`` for a fully gated problem. On the 2-core
     machine of ``benchmarks/bench_jpda.py`` a fully gated ``m = T = 16`` takes about
-    0.03 s and ``m = T = 20`` about 1 s when the machine is idle (0.08 s and 2.3 s
-    measured while it ran six other jobs).
+    0.02 s and ``m = T = 20`` 0.5 to 1.2 s (measured while the machine ran other jobs).
     """
     if method == "paper":
         return beta_paper(mvm, ops=ops)
