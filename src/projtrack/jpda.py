@@ -580,14 +580,13 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1
-    if m > 24:
+    if m > 22:
         raise ValueError(f"beta_paper needs 2^m words; m = {m} is too large (use beta)")
     if T == 0:
         return np.zeros((m1, 0))
     wn = _normalize_columns(w)
     full = (1 << m) - 1
     out = np.zeros((m1, T))
-    bits = ((np.arange(2**m)[:, None] >> np.arange(m)[None, :]) & 1).astype(float)
     cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for t in range(T):
         cols = list(range(T))
@@ -605,7 +604,9 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
             else:
                 vec_words = _mu_words_cached(m, max(0, m - p))
                 col = wn[:, cols[p]]
-                vec = col[0] + bits[vec_words] @ col[1:]
+                vec = np.full(len(vec_words), col[0])
+                for j in range(m):
+                    vec += col[j + 1] * ((vec_words >> j) & 1)
                 if ops is not None:
                     ops.add(n_add=int(_popcount(vec_words).sum()))
                 if store_intermediates and t == 0:
