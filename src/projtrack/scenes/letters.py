@@ -128,10 +128,14 @@ def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
     points = np.column_stack([xx.ravel(), yy.ravel()])
     # Glyph coordinates of each sample point.
     glyph_pts = (points - size / 2) / scale + centre
+    # Only points inside the glyph's bounding box can be inside the glyph.
+    box = np.all((glyph_pts >= lo) & (glyph_pts <= hi), axis=1)
     # Even-odd rule over all contours handles holes (A, B, D, O, P, Q, R).
-    inside = np.zeros(len(points), dtype=bool)
+    inside_box = np.zeros(int(box.sum()), dtype=bool)
     for poly in polys:
-        inside ^= MplPath(poly).contains_points(glyph_pts)
+        inside_box ^= MplPath(poly).contains_points(glyph_pts[box])
+    inside = np.zeros(len(points), dtype=bool)
+    inside[box] = inside_box
     cover = inside.reshape(size, supersample, size, supersample).mean(axis=(1, 3))
     return (cover >= min_coverage - 1e-12).astype(float)
 
