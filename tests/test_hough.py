@@ -447,6 +447,10 @@ def test_bad_projection_and_estimation_inputs():
         match_lines([(0, 0)], [[1, 1], [2, 2]], [0], SHAPE)
     with pytest.raises(ValueError, match="p_detect"):
         TrackInitiator(p_detect=1.5)
+    with pytest.raises(ValueError, match="dx_max"):
+        TrackInitiator(dx_max=10)
+    with pytest.raises(ValueError, match="confirm_fraction"):
+        TrackInitiator(confirm_fraction=0)
 
 
 @settings(max_examples=30, deadline=None)

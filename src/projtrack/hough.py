@@ -987,8 +987,13 @@ class TrackInitiator:
         if not np.isfinite(jitter_sigma) or jitter_sigma < 0:
             raise ValueError(f"jitter_sigma must be non-negative, got {jitter_sigma!r}")
         self.jitter_sigma = float(jitter_sigma)
-        self.dx_max = dx_max
-        self.confirm_fraction = confirm_fraction
+        if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
+                or (dx_max & (dx_max - 1)) != 0:
+            raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
+        self.dx_max = int(dx_max)
+        if not (0 < confirm_fraction <= 1):
+            raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
+        self.confirm_fraction = float(confirm_fraction)
         self.heading_hint = tuple(_check_hint(heading_hint))
 
     @staticmethod
