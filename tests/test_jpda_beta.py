@@ -250,3 +250,18 @@ def test_operation_count_of_the_sweep_is_recorded():
     assert ops.additions > 0 and ops.multiplications > 0
     assert ops.additions + ops.multiplications < sum(
         (lambda c: (c.additions, c.multiplications))(jpda.conventional_op_count(7, 7)))
+
+
+def test_analog_noise_model_of_the_stages():
+    rng = np.random.default_rng(4)
+    w = np.vstack([np.full((1, 5), 0.2), rng.uniform(0.1, 1, (5, 5))])
+    exact = jpda.beta_paper(w)
+    np.testing.assert_array_equal(jpda.beta_paper(w, vip_noise=0.0), exact)
+    small = jpda.beta_paper(w, vip_noise=1e-4, rng=np.random.default_rng(0))
+    big = jpda.beta_paper(w, vip_noise=1e-1, rng=np.random.default_rng(0))
+    e_small, e_big = np.abs(small - exact).max(), np.abs(big - exact).max()
+    assert 0 < e_small < 1e-3 < e_big
+    with pytest.raises(TypeError, match="rng"):
+        jpda.beta_paper(w, vip_noise=0.1)
+    with pytest.raises(ValueError, match="vip_noise"):
+        jpda.beta_paper(w, vip_noise=-1.0, rng=rng)

@@ -552,7 +552,8 @@ def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tu
 
 
 def beta_paper(mvm: object, *, ops: OpCount | None = None,
-               store_intermediates: bool = False) -> np.ndarray:
+               store_intermediates: bool = False, vip_noise: float = 0.0,
+               rng: np.random.Generator | None = None) -> np.ndarray:
     """Association probabilities by the paper's fast algorithm (Secs. III.B-D, Fig. 4).
 
     For target ``t``, columns 1 and ``t`` of the MVM are interchanged; the vector of
@@ -576,10 +577,22 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
     store_intermediates : bool
         Keep the vectors of target 1's chain and reuse their common suffix in the
         chains of the other targets (the paper's remark after Table VI).
+    vip_noise : float
+        Models the analog processor of Sec. IV: every vector produced by a stage of
+        inner products gets additive Gaussian noise of standard deviation
+        ``vip_noise`` times the vector's largest element (detector noise relative
+        to full scale), clipped at 0 (intensities). 0 (default) is exact arithmetic.
+    rng : numpy.random.Generator, optional
+        Required when ``vip_noise > 0``.
     """
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1
+    vip_noise = float(vip_noise)
+    if not np.isfinite(vip_noise) or vip_noise < 0:
+        raise ValueError(f"vip_noise must be a finite number >= 0, got {vip_noise}")
+    if vip_noise > 0 and not isinstance(rng, np.random.Generator):
+        raise TypeError("rng must be a numpy.random.Generator when vip_noise > 0")
     if m > 22:
         raise ValueError(f"beta_paper needs 2^m words; m = {m} is too large (use beta)")
     if T == 0:
@@ -614,6 +627,9 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
             for q in range(p - 1, 0, -1):
                 new_words = _mu_words_cached(m, max(0, m - q))
                 vec = stage_update(vec, new_words, vec_words, wn[:, cols[q]], ops)
+                if vip_noise > 0:
+                    vec = vec + rng.normal(0.0, vip_noise * np.abs(vec).max(), len(vec))
+                    np.maximum(vec, 0.0, out=vec)  # detected intensities are >= 0
                 vec_words = new_words
                 if store_intermediates and t == 0:
                     cache[q] = (vec_words, vec)
