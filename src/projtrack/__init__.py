@@ -3,14 +3,14 @@
 A shared package for a reproducible book of three documents:
 
 * Karl, Verghese & Willsky (1994), reconstructing ellipsoids from projections
-  (``projtrack.ellipsoids``);
+  (:mod:`projtrack.ellipsoids`);
 * Marques et al. (2002), trajectory estimation on manifolds, the DMA algorithm
-  (``projtrack.dma``);
+  (:mod:`projtrack.dma`);
 * Casasent (1989), time-sequential optical data processing: projection
-  correlations (``projtrack.correlators``), a Hough-transform track initiator
-  (``projtrack.hough``), fast JPDA (``projtrack.jpda``), a cubic-energy
-  neural net (``projtrack.neuralnet``) and an adaptive KL novelty filter
-  (``projtrack.novelty``).
+  correlations (:mod:`projtrack.correlators`), a Hough-transform track initiator
+  (:mod:`projtrack.hough`), fast JPDA (:mod:`projtrack.jpda`), a cubic-energy
+  neural net (:mod:`projtrack.neuralnet`) and an adaptive KL novelty filter
+  (:mod:`projtrack.novelty`).
 
 Shared helpers: :mod:`projtrack.figures` (figure style and saving),
 :mod:`projtrack.scorecard` (the reproduction scorecard), :mod:`projtrack.inventory`
