@@ -265,3 +265,91 @@ def test_analog_noise_model_of_the_stages():
         jpda.beta_paper(w, vip_noise=0.1)
     with pytest.raises(ValueError, match="vip_noise"):
         jpda.beta_paper(w, vip_noise=-1.0, rng=rng)
+
+
+# --- bad inputs of the stage, the Fig. 5 model and the counters ------------------------
+
+
+def test_stage_update_rejects_missing_predecessor_words():
+    # words with >= 3 bits only cannot feed the full word list (e.g. 0000 needs 0000)
+    with pytest.raises(ValueError, match="predecessor"):
+        jpda.stage_update(np.ones(5), jpda.mu_words(4, 0), jpda.mu_words(4, 3), np.ones(5))
+    # a single missing one-bit-fewer word is found too
+    prev = jpda.mu_words(4, 2)
+    prev = prev[prev != 0b0111]
+    with pytest.raises(ValueError, match="0111"):
+        jpda.stage_update(np.ones(len(prev)), jpda.mu_words(4, 3), prev, np.ones(5))
+
+
+@pytest.mark.parametrize("args,exc,msg", [
+    ((np.ones(4), jpda.mu_words(4), jpda.mu_words(4), np.ones(5)), ValueError, "vec must have"),
+    ((np.ones(16), jpda.mu_words(4), jpda.mu_words(4), np.ones(4)), ValueError, "3-bit words"),
+    ((np.ones(16), jpda.mu_words(4), jpda.mu_words(4), np.ones(0)), ValueError, "p_0"),
+    ((np.ones(16), jpda.mu_words(4), jpda.mu_words(4), np.ones((5, 1))), ValueError, "column"),
+    ((np.ones(16), jpda.mu_words(4) + 0.5, jpda.mu_words(4), np.ones(5)), TypeError, "words"),
+    ((np.ones(16), jpda.mu_words(4), np.r_[jpda.mu_words(4)[:-1], 1], np.ones(5)),
+     ValueError, "repeat"),
+    ((np.full(16, np.nan), jpda.mu_words(4), jpda.mu_words(4), np.ones(5)), ValueError, "finite"),
+])
+def test_stage_update_bad_inputs(args, exc, msg):
+    with pytest.raises(exc, match=msg):
+        jpda.stage_update(*args)
+
+
+def test_stage_update_valid_subsets_still_work():
+    # the stage of beta_paper: new words of >= m - q bits from old words of >= m - q - 1
+    rng = np.random.default_rng(3)
+    old, new = jpda.mu_words(5, 2), jpda.mu_words(5, 3)
+    vec, col = rng.random(len(old)), rng.random(6)
+    out = jpda.stage_update(vec, new, old, col)
+    pos = {int(w): i for i, w in enumerate(old)}
+    ref = [col[0] * vec[pos[int(w)]] + sum(col[j + 1] * vec[pos[int(w) ^ (1 << j)]]
+                                           for j in range(5) if (w >> j) & 1) for w in new]
+    np.testing.assert_allclose(out, ref, rtol=1e-14)
+
+
+def test_optical_vip_bad_inputs():
+    sched = jpda.optical_vip_schedule(4, 6, 4)
+    vec, col = np.ones(16), np.ones(5)
+    with pytest.raises(ValueError, match="vec has only 3"):
+        jpda.optical_vip_stage(np.ones(3), col, sched, 16)
+    with pytest.raises(ValueError, match="column has only 2"):
+        jpda.optical_vip_stage(vec, np.ones(2), sched, 16)
+    with pytest.raises(ValueError, match="n_out has only 4"):
+        jpda.optical_vip_stage(vec, col, sched, 4)
+    with pytest.raises(ValueError, match="schedule must be an"):
+        jpda.optical_vip_stage(vec, col, sched[:, :3], 16)
+    with pytest.raises(ValueError, match="noise_std"):
+        jpda.optical_vip_stage(vec, col, sched, 16, noise_std=-1.0)
+    with pytest.raises(ValueError, match="vec must be a 1-D"):
+        jpda.optical_vip_stage(np.ones((4, 4)), col, sched, 16)
+    for bad_q in (0, 5, 7):
+        with pytest.raises(ValueError, match="q must lie"):
+            jpda.optical_vip_schedule(4, 6, bad_q)
+    with pytest.raises(ValueError, match="T must be >= 3"):
+        jpda.optical_vip_schedule(4, 2, 1)
+    with pytest.raises(ValueError, match="m must lie"):
+        jpda.optical_vip_schedule(0, 6, 1)
+    with pytest.raises(ValueError, match="q must be >= 0"):
+        jpda.optical_vip_schedule(4, 6, -1)
+
+
+def test_counters_and_sizes_name_the_bad_argument():
+    with pytest.raises(ValueError, match="m must be >= 0"):
+        jpda.fast_op_count(-1, 3)
+    with pytest.raises(ValueError, match="T must be >= 0"):
+        jpda.fast_op_count(3, -2)
+    with pytest.raises(TypeError, match="T must be an int"):
+        jpda.fast_op_count(3, 2.0)
+    with pytest.raises(ValueError, match="m must be <= 22"):
+        jpda.fast_op_count(23, 2)
+    with pytest.raises(TypeError, match="store_intermediates"):
+        jpda.fast_op_count(3, 3, store_intermediates="yes")
+    for f in (jpda.vector_size, jpda.vector_size_text_formula):
+        with pytest.raises(ValueError, match="T must be >= 1"):
+            f(0, 0)
+        with pytest.raises(ValueError, match="T must be >= 1"):
+            f(4, 0)
+        with pytest.raises(ValueError, match="m must be <= 30"):
+            f(31, 2)
+    assert jpda.vector_size(0, 1) == 1  # no measurement: only the empty word

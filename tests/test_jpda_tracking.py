@@ -143,6 +143,20 @@ def test_tracker_bad_inputs():
         trk.step([[np.nan, 0]])
 
 
+@pytest.mark.parametrize("tracker", [jpda.JPDATracker, jpda.GNNTracker])
+def test_tracker_step_names_the_measurement_shape(tracker):
+    F, Q, H, R = scene.cv_model()
+    trk = tracker([[0, 0, 0, 0]], np.eye(4), F, Q, H, R)
+    for bad in ([[1.0, 2.0, 3.0]], [1.0, 2.0, 3.0], np.ones((2, 2, 2))):
+        with pytest.raises(ValueError, match=r"measurements must have shape \(m, 2\)"):
+            trk.step(bad)
+    with pytest.raises(TypeError, match="measurements must be a numeric"):
+        trk.step([["a", "b"]])
+    # an empty scan (no detections) is valid and only predicts
+    assert trk.step([]).shape == (1, 4)
+    assert trk.step(np.zeros((0, 2))).shape == (1, 4)
+
+
 def test_scene_is_deterministic_and_validates():
     a = scene.crossing_targets(np.random.default_rng(7), n_targets=3, n_steps=10)
     b = scene.crossing_targets(np.random.default_rng(7), n_targets=3, n_steps=10)

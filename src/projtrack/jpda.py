@@ -481,6 +481,16 @@ def _mu_words_cached(m: int, min_count: int) -> np.ndarray:
     return out
 
 
+def _check_vector_args(m: object, T: object) -> tuple[int, int]:
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    if T < 1:
+        raise ValueError(f"T must be >= 1 (the vectors belong to targets), got {T}")
+    if m > 30:
+        raise ValueError(f"m must be <= 30 for MU words, got {m}")
+    return m, T
+
+
 def vector_size(m: int, T: int) -> int:
     """Length of the target vectors of the fast algorithm (Table III).
 
@@ -491,17 +501,13 @@ def vector_size(m: int, T: int) -> int:
     ``max(1, .)`` (see :func:`vector_size_text_formula`), which drops the empty word
     and disagrees with the table whenever ``m < T``.
     """
-    m = _check_count(m, "m")
-    T = _check_count(T, "T")
-    if T == 0:
-        return 0
+    m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(0, m - T + 1), m + 1))
 
 
 def vector_size_text_formula(m: int, T: int) -> int:
     """The vector length as printed in Sec. III: ``sum_{j=max(1, m-T+1)}^m C(m, j)``."""
-    m = _check_count(m, "m")
-    T = _check_count(T, "T")
+    m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(1, m - T + 1), m + 1))
 
 
@@ -514,7 +520,56 @@ def stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
     single 1 selects the old element and the MVM entry ``p_j`` that multiplies it
     (a vector inner product per element, Fig. 4). ``vec`` is indexed like
     ``prev_words``; ``column`` is the MVM column ``(p_0, p_1, ..., p_m)``.
+
+    Raises
+    ------
+    ValueError
+        If ``vec`` and ``prev_words`` differ in length, ``column`` is empty, a word is
+        not an ``m``-bit word (``0 <= w < 2^m``), ``prev_words`` repeats a word, or a
+        predecessor word (``w`` itself or ``w XOR bit_j`` for a set bit ``j``) of some
+        word of ``words`` is missing from ``prev_words``.
     """
+    column = _as_float_array(column, "column", 1)
+    if len(column) < 1:
+        raise ValueError("column must hold (p_0, p_1, ..., p_m): at least p_0")
+    m = len(column) - 1
+    if m > 30:
+        raise ValueError(f"column has m = {m} measurement entries; at most 30 are supported")
+    words = _check_words(words, "words", m)
+    prev_words = _check_words(prev_words, "prev_words", m)
+    if len(np.unique(prev_words)) != len(prev_words):
+        raise ValueError("prev_words must not repeat a word")
+    vec = _as_float_array(vec, "vec", 1)
+    if len(vec) != len(prev_words):
+        raise ValueError(f"vec must have one element per word of prev_words "
+                         f"({len(prev_words)}), got {len(vec)}")
+    have = np.zeros(2**m, dtype=bool)
+    have[prev_words] = True
+    need = [words] + [words[(words >> j) & 1 == 1] ^ (1 << j) for j in range(m)]
+    missing = np.unique(np.concatenate(need)[~have[np.concatenate(need)]])
+    if missing.size:
+        shown = ", ".join(f"{x:0{m}b}" if m else "(empty)" for x in missing[:5].tolist())
+        raise ValueError(f"prev_words lacks {missing.size} predecessor word(s) the new "
+                         f"words need (e.g. {shown})")
+    return _stage_update(vec, words, prev_words, column, ops)
+
+
+def _check_words(words: object, name: str, m: int) -> np.ndarray:
+    a = np.asarray(words)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of MU words, got shape {a.shape}")
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise TypeError(f"{name} must hold integer MU words, got dtype {a.dtype}")
+    a = a.astype(np.int64)
+    if a.size and (a.min() < 0 or a.max() >= 2**m):
+        raise ValueError(f"{name} must hold {m}-bit words in [0, {2**m}) "
+                         f"(m = len(column) - 1), got values in [{a.min()}, {a.max()}]")
+    return a
+
+
+def _stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
+                  column: np.ndarray, ops: OpCount | None = None) -> np.ndarray:
+    """:func:`stage_update` without input checks (the inner loop of :func:`beta_paper`)."""
     m = len(column) - 1
     pos = np.full(2**m, -1, dtype=np.int64)
     pos[prev_words] = np.arange(len(prev_words))
@@ -626,7 +681,7 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
                     cache[p] = (vec_words, vec)
             for q in range(p - 1, 0, -1):
                 new_words = _mu_words_cached(m, max(0, m - q))
-                vec = stage_update(vec, new_words, vec_words, wn[:, cols[q]], ops)
+                vec = _stage_update(vec, new_words, vec_words, wn[:, cols[q]], ops)
                 if vip_noise > 0:
                     vec = vec + rng.normal(0.0, vip_noise * np.abs(vec).max(), len(vec))
                     np.maximum(vec, 0.0, out=vec)  # detected intensities are >= 0
@@ -660,7 +715,21 @@ def conventional_op_count(m: int, T: int) -> OpCount:
 
 
 def fast_op_count(m: int, T: int, store_intermediates: bool = False) -> OpCount:
-    """Operation count of :func:`beta_paper` (Table V) by running it on an all-ones MVM."""
+    """Operation count of :func:`beta_paper` (Table V) by running it on an all-ones MVM.
+
+    Parameters
+    ----------
+    m, T : int
+        Numbers of measurements (``0..22``) and targets (``>= 0``).
+    store_intermediates : bool
+        Count the variant that reuses target 1's chain (see :func:`beta_paper`).
+    """
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    if m > 22:
+        raise ValueError(f"m must be <= 22 (beta_paper needs 2^m words), got {m}")
+    if not isinstance(store_intermediates, (bool, np.bool_)):
+        raise TypeError(f"store_intermediates must be a bool, got {type(store_intermediates).__name__}")
     ops = OpCount()
     mvm = np.vstack([np.full((1, T), 0.5), np.ones((m, T))])
     beta_paper(mvm, ops=ops, store_intermediates=store_intermediates)
@@ -965,7 +1034,27 @@ def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
     Returns an int array with columns ``(slot, diode, ao1_cell, detector)`` where
     diode/detector index the old/new word lists of :func:`mu_words` with bit counts
     ``>= m - q - 1`` / ``>= m - q``.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements, ``1..20``.
+    T : int
+        Number of targets, ``>= 3`` (with fewer targets there is no stage).
+    q : int
+        Stage index as in :func:`beta_paper` (0-based target columns): the vector of
+        column ``q + 1`` becomes that of column ``q``, ``1 <= q <= T - 2`` (column
+        ``T - 1`` is the starting vector, column 0 is eq. (6)).
     """
+    m = _check_count(m, "m")
+    T = _check_count(T, "T")
+    q = _check_count(q, "q")
+    if not 1 <= m <= 20:
+        raise ValueError(f"m must lie in 1..20, got {m}")
+    if T < 3:
+        raise ValueError(f"T must be >= 3 for a stage of inner products to exist, got {T}")
+    if not 1 <= q <= T - 2:
+        raise ValueError(f"q must lie in 1..T-2 = 1..{T - 2} (stage from column q + 1 to q), got {q}")
     new_words = mu_words(m, max(0, m - q))
     old_words = mu_words(m, max(0, m - q - 1))
     pos = np.full(2**m, -1, dtype=np.int64)
@@ -991,16 +1080,34 @@ def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
     each detector reading gets additive Gaussian noise (analog accuracy), drawn from
     ``rng``.
     """
-    vec = np.asarray(vec, dtype=float)
-    column = np.asarray(column, dtype=float)
+    vec = _as_float_array(vec, "vec", 1)
+    column = _as_float_array(column, "column", 1)
+    n_out = _check_count(n_out, "n_out")
+    sch = np.asarray(schedule)
+    if sch.ndim != 2 or sch.shape[1] != 4:
+        raise ValueError("schedule must be an (n, 4) array of (slot, diode, ao1_cell, detector) "
+                         f"rows, got shape {sch.shape}")
+    if sch.size and not np.issubdtype(sch.dtype, np.integer):
+        raise TypeError(f"schedule must hold integers, got dtype {sch.dtype}")
+    schedule = sch.astype(np.int64)
+    if np.any(schedule < 0):
+        raise ValueError("schedule entries must be >= 0")
+    for col, name, size in ((1, "vec", len(vec)), (2, "column", len(column)), (3, "n_out", n_out)):
+        if len(schedule) and schedule[:, col].max() >= size:
+            what = ("diode", "AO1 cell", "detector")[col - 1]
+            raise ValueError(f"schedule uses {what} {schedule[:, col].max()} but {name} has "
+                             f"only {size} {'detectors' if col == 3 else 'elements'}")
+    noise_std = float(noise_std)
+    if not np.isfinite(noise_std) or noise_std < 0:
+        raise ValueError(f"noise_std must be a finite number >= 0, got {noise_std}")
     out = np.zeros(n_out)
     for s in np.unique(schedule[:, 0]):
         r = schedule[schedule[:, 0] == s]
         # within one slot every detector receives at most one product
         out[r[:, 3]] += vec[r[:, 1]] * column[r[:, 2]]
     if noise_std > 0:
-        if rng is None:
-            raise ValueError("rng is required when noise_std > 0")
+        if not isinstance(rng, np.random.Generator):
+            raise ValueError("rng (a numpy.random.Generator) is required when noise_std > 0")
         out = out + rng.normal(0.0, noise_std, n_out)
     return out
 
@@ -1048,6 +1155,23 @@ class _KFBank:
             zp.append((kf.H @ kf.x).ravel())
             S.append(kf.H @ kf.P @ kf.H.T + kf.R)
         return np.array(zp).reshape(-1, self.d), np.array(S).reshape(-1, self.d, self.d)
+
+    def measurements(self, measurements: object) -> np.ndarray:
+        """One scan as a finite ``(m, d)`` float array (an empty scan may be ``[]``)."""
+        try:
+            z = np.asarray(measurements, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError("measurements must be a numeric (m, d) array") from exc
+        if z.size == 0:
+            return np.zeros((0, self.d))
+        if self.d == 1 and z.ndim == 1:
+            z = z[:, None]
+        if z.ndim != 2 or z.shape[1] != self.d:
+            raise ValueError(f"measurements must have shape (m, {self.d}) (d = rows of H), "
+                             f"got shape {z.shape}")
+        if not np.all(np.isfinite(z)):
+            raise ValueError("measurements must be finite")
+        return z
 
     @property
     def states(self) -> np.ndarray:
@@ -1097,9 +1221,7 @@ class JPDATracker:
 
     def step(self, measurements: object) -> np.ndarray:
         """Predict, associate and update with one scan of measurements ``(m, d)``; returns states."""
-        z = np.asarray(measurements, dtype=float).reshape(-1, self.bank.d)
-        if not np.all(np.isfinite(z)):
-            raise ValueError("measurements must be finite")
+        z = self.bank.measurements(measurements)
         zp, S = self.bank.predict()
         T = len(zp)
         mvm = modified_validation_matrix(z, zp, S, self.p_detect, self.gate_prob,
@@ -1138,9 +1260,7 @@ class GNNTracker:
         """Predict, assign and update with one scan ``(m, d)``; returns the states."""
         from scipy.optimize import linear_sum_assignment
 
-        z = np.asarray(measurements, dtype=float).reshape(-1, self.bank.d)
-        if not np.all(np.isfinite(z)):
-            raise ValueError("measurements must be finite")
+        z = self.bank.measurements(measurements)
         zp, S = self.bank.predict()
         T, m = len(zp), len(z)
         if m:
