@@ -162,6 +162,48 @@ def test_psr_window_clipped_at_edge():
     assert np.isclose(C.psr(plane, window=11), 6.0 / 1.0)
 
 
+def test_psr_rejects_even_and_bad_windows():
+    plane = np.zeros(21)
+    plane[8:13] = 0.5
+    plane[10] = 2.0
+    for w in (2, 4, 10):
+        with pytest.raises(ValueError, match="odd"):
+            C.psr(plane, window=w)
+        with pytest.raises(ValueError, match="odd"):
+            C.peak_stats(plane, window=w, exclude=None)
+    with pytest.raises(ValueError, match=">= 1"):
+        C.psr(plane, window=0)
+    with pytest.raises(TypeError, match="int"):
+        C.psr(plane, window=5.0)
+    with pytest.raises(TypeError, match="int"):
+        C.psr(plane, window=True)
+
+
+def test_psr_odd_window_is_symmetric_about_the_peak():
+    # a symmetric plane and its mirror image have the same PSR for every odd window
+    rng = np.random.default_rng(3)
+    half = rng.uniform(0.0, 1.0, size=12)
+    plane = np.concatenate([half, [5.0], half[::-1] + 0.3])
+    for w in (3, 5, 9, 21):
+        assert np.isclose(C.psr(plane, window=w), C.psr(plane[::-1], window=w))
+
+
+def test_snr_even_exclusion_region_is_documented_asymmetric():
+    # exclude=4 removes lags -2..+1 around the peak; exclude=5 removes -2..+2
+    plane = np.zeros(21)
+    plane[10] = 10.0
+    plane[[8, 9, 11, 12]] = 1.0
+    plane[0] = -1.0
+    rest4 = np.delete(plane, [8, 9, 10, 11])
+    rest5 = np.delete(plane, [8, 9, 10, 11, 12])
+    assert np.isclose(C.snr(plane, exclude=4), 10.0 / rest4.std())
+    assert np.isclose(C.snr(plane, exclude=5), 10.0 / rest5.std())
+    with pytest.raises(ValueError, match=">= 1"):
+        C.snr(plane, exclude=0)
+    with pytest.raises(TypeError, match="int"):
+        C.snr(plane, exclude=3.5)
+
+
 def test_snr_known_plane():
     rng = np.random.default_rng(7)
     plane = rng.normal(0, 2.0, size=(64, 64))
@@ -241,6 +283,25 @@ def test_classifier_bad_inputs():
         clf.predict(np.ones((1, 32, 32)))
     with pytest.raises(TypeError):
         C.ProjectionCorrelationClassifier(angles=("a",))
+
+
+@pytest.mark.parametrize("bank", [C.ProjectionCorrelationClassifier, C.Correlation2DClassifier])
+def test_classifier_needs_two_classes(bank):
+    alpha = letters.alphabet()
+    with pytest.raises(ValueError, match="at least 2 classes"):
+        bank().fit(alpha[:3], ["A", "A", "A"])
+    with pytest.raises(ValueError, match="at least 2 classes"):
+        bank().fit(alpha[:1], [0])
+    clf = bank().fit(alpha[:2], ["A", "B"])  # two classes are enough
+    assert list(clf.predict(alpha[:2])) == ["A", "B"]
+
+
+def test_classifier_bad_chunk():
+    with pytest.raises(ValueError, match=">= 1"):
+        C.Correlation2DClassifier(chunk=0)
+    with pytest.raises(TypeError, match="int"):
+        C.Correlation2DClassifier(chunk=2.5)
+    assert C.Correlation2DClassifier(chunk=2).chunk == 2  # chunk sizes need not be odd
 
 
 # ------------------------------------------------------------------ multiple objects

@@ -147,12 +147,21 @@ def _as_angles(angles: object) -> tuple[float, ...]:
     return out
 
 
-def _as_odd_window(value: object, name: str) -> int:
+def _as_positive_int(value: object, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
     if value < 1:
         raise ValueError(f"{name} must be >= 1, got {value}")
     return int(value)
+
+
+def _as_odd_window(value: object, name: str) -> int:
+    # a window centred on the peak: an even size has no centre sample and would put
+    # one more sample on one side of the peak than on the other
+    value = _as_positive_int(value, name)
+    if value % 2 == 0:
+        raise ValueError(f"{name} must be odd (a window centred on the peak), got {value}")
+    return value
 
 
 # ------------------------------------------------------------------ simple operations
@@ -455,11 +464,21 @@ def psr(plane: np.ndarray, window: int = 11) -> float:
     ``window x window`` region (``window`` samples for a 1-D plane) centred on the peak,
     excluding the peak itself, clipped at the edges of the plane.
 
+    Parameters
+    ----------
+    plane : array_like, 1-D or 2-D
+        Correlation plane (or 1-D correlation).
+    window : int, default 11
+        Odd side of the window centred on the peak (the paper's 11 x 11 region).
+
     Raises
     ------
+    TypeError
+        If ``window`` is not an int.
     ValueError
-        If the plane is empty, non-finite, or the window holds only the peak; or if the
-        sidelobe mean is zero (the ratio is undefined).
+        If the plane is empty, non-finite, or the window holds only the peak; if
+        ``window`` is not a positive odd int (an even window cannot be centred on the
+        peak); or if the sidelobe mean is zero (the ratio is undefined).
     """
     arr = _as_plane(plane)
     window = _as_odd_window(window, "window")
@@ -479,14 +498,26 @@ def snr(plane: np.ndarray, exclude: int = 32) -> float:
     Peak value divided by the standard deviation of the plane outside the
     ``exclude x exclude`` region (``exclude`` samples in 1-D) centred on the peak.
 
+    Parameters
+    ----------
+    plane : array_like, 1-D or 2-D
+        Correlation plane (or 1-D correlation).
+    exclude : int, default 32
+        Side of the excluded region (the paper's 32 x 32). An even region has no centre
+        sample: it then covers ``exclude // 2`` samples before the peak and
+        ``exclude // 2 - 1`` after it along every axis (for the default, lags -16 to +15
+        relative to the peak); an odd one is symmetric. Clipped at the plane's edges.
+
     Raises
     ------
+    TypeError
+        If ``exclude`` is not an int.
     ValueError
-        If fewer than two samples remain outside the excluded region or their standard
-        deviation is zero.
+        If ``exclude`` < 1, if fewer than two samples remain outside the excluded region
+        or if their standard deviation is zero.
     """
     arr = _as_plane(plane)
-    exclude = _as_odd_window(exclude, "exclude")
+    exclude = _as_positive_int(exclude, "exclude")
     loc = np.unravel_index(int(np.argmax(arr)), arr.shape)
     mask = np.ones(arr.shape, dtype=bool)
     mask[_window(arr, loc, exclude)] = False
@@ -566,12 +597,23 @@ class CorrelationFilterBank:
         X : array_like, shape (n, H, W)
             Training images (for the paper's bank: the 26 clean letters).
         y : sequence of labels, length n
+            At least two distinct classes (a bank of one filter cannot discriminate).
+
+        Raises
+        ------
+        ValueError
+            If ``X`` is not a finite, non-empty stack of images, ``y`` does not hold one
+            label per image or fewer than two classes are given.
         """
         X = _as_stack(X, "X")
         y_arr = np.asarray(y)
         if y_arr.ndim != 1 or len(y_arr) != len(X):
             raise ValueError(f"y must be 1-D with one label per image ({len(X)}), got shape {y_arr.shape}")
-        self.classes_ = np.unique(y_arr)
+        classes = np.unique(y_arr)
+        if len(classes) < 2:
+            raise ValueError(f"y must contain at least 2 classes to classify between, got {len(classes)}: "
+                             f"{classes.tolist()}")
+        self.classes_ = classes
         refs = np.stack([X[y_arr == c].mean(axis=0) for c in self.classes_])
         self.shape_ = X.shape[1:]
         self.filters_ = self._prepare(refs)
@@ -677,7 +719,7 @@ class Correlation2DClassifier(CorrelationFilterBank):
 
     def __init__(self, zero_mean: bool = True, normalize: bool = True, chunk: int = 256):
         super().__init__(zero_mean, normalize)
-        self.chunk = _as_odd_window(chunk, "chunk")
+        self.chunk = _as_positive_int(chunk, "chunk")
 
     def _build(self) -> None:
         H, W = self.shape_
@@ -819,7 +861,7 @@ def space_integrating_correlator(inputs: np.ndarray, references: np.ndarray, *,
         raise ValueError("inputs and references must be finite")
     K, L = x.shape
     N, _, M = h.shape
-    oversample = _as_odd_window(oversample, "oversample")
+    oversample = _as_positive_int(oversample, "oversample")
     car = np.arange(1, K + 1) if carriers is None else np.asarray(carriers)
     if car.shape != (K,) or car.dtype.kind not in "iu":
         raise ValueError(f"carriers must be {K} integers (cycles per sample)")
