@@ -454,3 +454,71 @@ def test_slotcar_video_shapes_and_occlusion():
     t = np.flatnonzero(v.occluded)[0]
     r, c = np.rint(v.positions[t]).astype(int)
     assert abs(v.frames[t, r, c] - v.background[r, c]) < 0.25
+
+
+def test_learn_manifold_warns_when_it_keeps_fewer_prototypes():
+    X = mf.parabolic_surface(10, np.random.default_rng(0))
+    with pytest.warns(UserWarning, match=r"kept \d+ of n_regions=2 regions and \d+ of 16 prototypes"):
+        man = dma.learn_manifold(X, 2, 8, np.random.default_rng(1), dim=2)
+    assert man.n_prototypes < 16
+
+
+def test_learn_manifold_silent_when_everything_is_kept():
+    import warnings
+
+    X = mf.parabolic_surface(400, np.random.default_rng(0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        man = dma.learn_manifold(X, 3, 4, np.random.default_rng(1), dim=2)
+    assert man.n_regions == 3 and man.n_prototypes == 12
+
+
+def test_road_scene_bad_inputs():
+    rng = np.random.default_rng(0)
+    for kwargs, name in [({"extent": 0.0}, "extent"), ({"extent": np.nan}, "extent"),
+                         ({"spacing": -1.0}, "spacing"), ({"grid": 1}, "grid"),
+                         ({"n_hills": -1}, "n_hills"), ({"n_hills": 2.5}, "n_hills")]:
+        with pytest.raises(ValueError, match=name):
+            make_road_scene(rng, **kwargs)
+    with pytest.raises(TypeError, match="rng"):
+        make_road_scene(0)
+    scene = make_road_scene(np.random.default_rng(0))
+    for kwargs, name in [({"speed": 0.0}, "speed"), ({"speed": -3.0}, "speed"),
+                         ({"dt": 0.0}, "dt"), ({"dt": np.inf}, "dt")]:
+        with pytest.raises(ValueError, match=name):
+            scene.drive(10, np.random.default_rng(1), **kwargs)
+    with pytest.raises(ValueError, match="n_steps"):
+        scene.drive(0, np.random.default_rng(1))
+    with pytest.raises(ValueError, match="heading_scale"):
+        scene.directed_states(0.0)
+    with pytest.raises(ValueError, match="xy"):
+        scene.elevation(np.zeros((4, 3)))
+    with pytest.raises(ValueError, match="xy"):
+        scene.elevation(np.array([[np.nan, 1.0]]))
+    with pytest.raises(ValueError, match="n must"):
+        scene.elevation_grid(1)
+    states = scene.directed_states()
+    with pytest.raises(ValueError, match="finite"):
+        states.quantize(np.array([[0.0, 0.0], [np.nan, 1.0]]))
+    with pytest.raises(ValueError, match="trajectory"):
+        states.quantize(np.zeros((5, 4)))
+
+
+def test_slotcar_video_bad_inputs():
+    rng = np.random.default_rng(0)
+    for kwargs, name in [({"noise": -0.1}, "noise"), ({"noise": np.nan}, "noise"),
+                         ({"fps": 0.0}, "fps"), ({"fps": -12.0}, "fps"),
+                         ({"speed": 0.0}, "speed"), ({"speed": -1.0}, "speed"),
+                         ({"bridge_width": 0.0}, "bridge_width"),
+                         ({"shape": (8, 64)}, "shape"), ({"shape": (48.0, 64)}, "shape"),
+                         ({"shape": 48}, "shape")]:
+        with pytest.raises(ValueError, match=name):
+            make_slotcar_video(5, rng, **kwargs)
+    with pytest.raises(ValueError, match="n_frames"):
+        make_slotcar_video(0, rng)
+    with pytest.raises(TypeError, match="rng"):
+        make_slotcar_video(5, 0)
+    # noise = 0 is allowed and gives the clean scene away from the car
+    v = make_slotcar_video(2, np.random.default_rng(0), noise=0.0)
+    far = np.linalg.norm(np.indices(v.background.shape).reshape(2, -1).T - v.positions[0], axis=1) > 6
+    assert np.allclose(v.frames[0].ravel()[far], v.background.ravel()[far], atol=1e-6)

@@ -32,6 +32,82 @@ def test_kalman_sphere_shapes():
     assert est.shape == (5, 3) and np.allclose(est, 0.0)
 
 
+def _kalman_oracle(y, noise_std, q, smooth):
+    """Random-walk Kalman filter + RTS smoother written out with numpy (textbook equations),
+    the same model as ``kalman_sphere``: predict then update at every step from N(0, I/3)."""
+    H = ex.H_SPHERE[0]
+    R, Q = noise_std**2, q**2 * np.eye(3)
+    x, P = np.zeros(3), np.eye(3) / 3.0
+    xs, Ps, xp, Pp = [], [], [], []
+    for yt in y:
+        x, P = x, P + Q  # F = I
+        xp.append(x); Pp.append(P)
+        S = float(H @ P @ H) + R
+        K = P @ H / S
+        x = x + K * (yt - float(H @ x))
+        P = (np.eye(3) - np.outer(K, H)) @ P
+        xs.append(x); Ps.append(P)
+    xs = np.array(xs)
+    if smooth:
+        for t in range(len(y) - 2, -1, -1):
+            G = Ps[t] @ np.linalg.inv(Pp[t + 1])
+            xs[t] = xs[t] + G @ (xs[t + 1] - xp[t + 1])
+    return xs
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_kalman_sphere_matches_oracles_on_nonzero_data(smooth):
+    from filterpy.kalman import KalmanFilter
+
+    rng = np.random.default_rng(5)
+    y = rng.uniform(-1.5, 1.5, 12)
+    est = ex.kalman_sphere(y, 0.2, q=0.25, smooth=smooth)
+    assert np.abs(est).max() > 0.05  # non-trivial data, non-trivial estimate
+    # oracle 1: numpy textbook filter / RTS smoother
+    assert np.allclose(est, _kalman_oracle(y, 0.2, 0.25, smooth), atol=1e-10)
+    # oracle 2: filterpy KalmanFilter driven step by step with predict()/update()
+    kf = KalmanFilter(dim_x=3, dim_z=1)
+    kf.x, kf.P, kf.F, kf.H = np.zeros(3), np.eye(3) / 3.0, np.eye(3), ex.H_SPHERE.copy()
+    kf.R, kf.Q = np.array([[0.04]]), 0.0625 * np.eye(3)
+    mus, covs = [], []
+    for yt in y:
+        kf.predict()
+        kf.update(np.array([yt]))
+        mus.append(kf.x.copy()); covs.append(kf.P.copy())
+    mus, covs = np.array(mus), np.array(covs)
+    if smooth:
+        mus = kf.rts_smoother(mus, covs)[0]
+    assert np.allclose(est, mus, atol=1e-10)
+    # the estimate explains the observations (residual well below their spread)
+    assert np.std(est @ ex.H_SPHERE[0] - y) < 0.5 * np.std(y)
+
+
+def test_kalman_sphere_bad_inputs():
+    y = np.ones(4)
+    with pytest.raises(ValueError, match="finite"):
+        ex.kalman_sphere(np.array([0.1, np.nan, 0.2]), 0.1)
+    with pytest.raises(ValueError, match="noise_std"):
+        ex.kalman_sphere(y, 0.0)
+    with pytest.raises(ValueError, match="noise_std"):
+        ex.kalman_sphere(y, -0.1)
+    with pytest.raises(ValueError, match="q"):
+        ex.kalman_sphere(y, 0.1, q=0.0)
+    with pytest.raises(ValueError, match="y must have shape"):
+        ex.kalman_sphere(np.ones((4, 2)), 0.1)
+    with pytest.raises(ValueError, match="y must have shape"):
+        ex.kalman_sphere(np.ones(0), 0.1)
+
+
+def test_make_sphere_example_bad_inputs(sphere):
+    rng = np.random.default_rng(0)
+    for kwargs, name in [({"noise_std": -1.0}, "noise_std"), ({"noise_std": 0.0}, "noise_std"),
+                         ({"noise_std": np.nan}, "noise_std"), ({"dt": 0.0}, "dt")]:
+        with pytest.raises(ValueError, match=name):
+            ex.make_sphere_example(rng, n_points=200, n_regions=2, n_prototypes=2, **kwargs)
+    with pytest.raises(ValueError, match="noise_std"):
+        sphere.with_noise(-0.5)
+
+
 def test_road_example_directed_states_small_error():
     road = ex.make_road_example(np.random.default_rng(0))
     assert np.allclose(road.transitions.sum(axis=1), 1.0)

@@ -31,6 +31,7 @@ dense) probability matrix into this form without losing the sparsity pattern.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -612,6 +613,11 @@ def learn_manifold(
        region has fewer distinct points; regions that receive no point are dropped).
        Prototypes are sorted by their first local coordinate.
 
+    .. warning::
+       The model can therefore have **fewer regions or prototypes than asked**. When that
+       happens a :class:`UserWarning` says how many were kept; check
+       ``DiscreteManifold.n_regions`` and ``n_prototypes`` of the result.
+
     Parameters
     ----------
     X : array_like, shape (N, n)
@@ -679,6 +685,14 @@ def learn_manifold(
         eigs.append(lam)
         dims.append(m)
         protos.append(C)
+    n_kept = sum(len(C) for C in protos)
+    if len(keep) < M or n_kept < M * K:
+        warnings.warn(
+            f"learn_manifold kept {len(keep)} of n_regions={M} regions and {n_kept} of "
+            f"{M * K} prototypes (n_regions x n_prototypes): empty regions are dropped and a "
+            "region with fewer distinct points than n_prototypes gets fewer prototypes",
+            UserWarning, stacklevel=2,
+        )
     return DiscreteManifold(
         means=means[keep], covariances=covs[keep], weights=weights[keep] / weights[keep].sum(),
         bases=bases, eigenvalues=np.array(eigs), dims=np.array(dims, dtype=np.int64), local_prototypes=protos,

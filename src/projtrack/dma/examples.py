@@ -56,6 +56,17 @@ __all__ = [
 H_SPHERE = np.array([[1.0, -1.0, 1.0]])
 
 
+def _positive(value: object, name: str) -> float:
+    """``value`` as a float, or ValueError naming ``name`` unless finite and > 0."""
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}") from exc
+    if not (np.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return v
+
+
 def decode_all(log_start: np.ndarray, log_trans: object, log_emission: np.ndarray) -> dict[str, np.ndarray]:
     """Viterbi path, smoothed (forward-backward) and filtered (on-line) argmax paths."""
     post, _ = forward_backward(log_start, log_trans, log_emission)
@@ -91,7 +102,7 @@ class SphereExample:
         """The same centroids and chain with another observation noise level."""
         from dataclasses import replace
 
-        return replace(self, noise_std=float(noise_std))
+        return replace(self, noise_std=_positive(noise_std, "noise_std"))
 
     def simulate(self, n_steps: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """A state path drawn from the chain and its observations ``y = H u + v``."""
@@ -116,8 +127,11 @@ def make_sphere_example(
     radially onto the sphere). Transitions follow :func:`projtrack.scenes.manifolds.sphere_velocity`
     with time step ``dt``, to the two centroids nearest the predicted point
     (:func:`projtrack.dma.transitions_from_velocity_field`); the start is uniform.
-    ``noise_std`` is the standard deviation of ``v`` (the paper does not give it).
+    ``noise_std`` is the standard deviation of ``v`` (the paper does not give it); it and
+    ``dt`` must be > 0 (ValueError otherwise).
     """
+    noise_std = _positive(noise_std, "noise_std")
+    dt = _positive(dt, "dt")
     X = mf.sphere_points(n_points, rng)
     man = learn_manifold(X, n_regions, n_prototypes, rng, dim=2)
     C = mf.project_to_sphere(man.prototypes)
@@ -165,10 +179,21 @@ def kalman_sphere(y: np.ndarray, noise_std: float, *, q: float = 0.3, smooth: bo
     step), ``y_t = [1 -1 1] x_t + v_t``; prior ``N(0, I/3)`` (the moments of a uniform
     point on the sphere). With ``smooth`` the RTS smoother is applied (an off-line
     estimator, like Viterbi). Uses :class:`filterpy.kalman.KalmanFilter`.
+
+    ``y`` must be finite (a missing observation is not supported: ValueError rather than a
+    silent NaN estimate), ``noise_std`` and ``q`` finite and > 0 (a zero observation
+    noise makes the innovation covariance singular at the first step).
     """
     from filterpy.kalman import KalmanFilter
 
-    y = np.asarray(y, dtype=float).reshape(-1, 1)
+    noise_std = _positive(noise_std, "noise_std")
+    q = _positive(q, "q")
+    y = np.asarray(y, dtype=float)
+    if y.ndim not in (1, 2) or (y.ndim == 2 and y.shape[1] != 1) or y.size == 0:
+        raise ValueError(f"y must have shape (N,) or (N, 1) with N >= 1, got {y.shape}")
+    if not np.isfinite(y).all():
+        raise ValueError("y must be finite (no NaN or inf)")
+    y = y.reshape(-1, 1)
     kf = KalmanFilter(dim_x=3, dim_z=1)
     kf.x = np.zeros(3)
     kf.P = np.eye(3) / 3.0

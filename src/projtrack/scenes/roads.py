@@ -30,6 +30,15 @@ import scipy.sparse as sp
 __all__ = ["RoadScene", "DirectedStates", "make_road_scene"]
 
 
+def _positive(value: object, name: str) -> float:
+    """``value`` as a float, or ValueError naming ``name`` unless finite and > 0."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return float(value)
+
+
 @dataclass
 class DirectedStates:
     """Road prototypes paired with a direction of travel (position-heading states).
@@ -64,8 +73,10 @@ class DirectedStates:
         from scipy.spatial import cKDTree
 
         x = np.asarray(trajectory, dtype=float)
-        if x.ndim != 2 or x.shape[0] < 2 or x.shape[1] < 2:
+        if x.ndim != 2 or x.shape[0] < 2 or x.shape[1] not in (2, 3):
             raise ValueError(f"trajectory must have shape (T >= 2, 2 or 3), got {x.shape}")
+        if not np.isfinite(x).all():
+            raise ValueError("trajectory must be finite (no NaN or inf)")
         v = np.gradient(x[:, :2], axis=0)
         v = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-12)
         return cKDTree(self.features).query(np.column_stack([x[:, :2], self.heading_scale * v]))[1]
@@ -125,8 +136,7 @@ class RoadScene:
 
     def directed_states(self, heading_scale: float = 30.0) -> DirectedStates:
         """Position-heading states along every road (see :class:`DirectedStates`)."""
-        if not heading_scale > 0:
-            raise ValueError(f"heading_scale must be > 0, got {heading_scale}")
+        heading_scale = _positive(heading_scale, "heading_scale")
         pos, head = [], []
         for _, _, poly in self.roads:
             s = _arclength(poly)
@@ -144,11 +154,17 @@ class RoadScene:
     def elevation(self, xy: np.ndarray) -> np.ndarray:
         """Terrain height ``z(x, y)`` (m) at points ``(..., 2)``."""
         xy = np.asarray(xy, dtype=float)
+        if xy.ndim == 0 or xy.shape[-1] != 2:
+            raise ValueError(f"xy must have shape (..., 2), got {xy.shape}")
+        if not np.isfinite(xy).all():
+            raise ValueError("xy must be finite (no NaN or inf)")
         d2 = ((xy[..., None, :] - self.hills[:, :2]) ** 2).sum(-1)
         return self.base + (self.hills[:, 2] * np.exp(-0.5 * d2 / self.hills[:, 3] ** 2)).sum(-1)
 
     def elevation_grid(self, n: int = 101) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(X, Y, Z)`` on an ``n x n`` grid, for contour plots."""
+        """``(X, Y, Z)`` on an ``n x n`` grid, for contour plots (``n`` an int >= 2)."""
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+            raise ValueError(f"n must be an int >= 2, got {n!r}")
         g = np.linspace(0, self.extent, n)
         X, Y = np.meshgrid(g, g)
         return X, Y, self.elevation(np.stack([X, Y], axis=-1))
@@ -159,8 +175,8 @@ class RoadScene:
             raise TypeError("rng must be a numpy.random.Generator")
         if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
             raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
-        if not (speed > 0 and dt > 0):
-            raise ValueError("speed and dt must be > 0")
+        speed = _positive(speed, "speed")
+        dt = _positive(dt, "dt")
         incident: dict[int, list[tuple[int, bool]]] = {}
         for r, (a, b, _) in enumerate(self.roads):
             incident.setdefault(a, []).append((r, True))
@@ -211,13 +227,23 @@ def make_road_scene(
         Number of Gaussian hills.
     spacing : float
         Prototype spacing along the roads (m).
+
+    Raises
+    ------
+    TypeError
+        If ``rng`` is not a Generator.
+    ValueError
+        If ``grid`` is not an int >= 2, ``n_hills`` not an int >= 0, or ``extent`` or
+        ``spacing`` not a finite number > 0 (each message names the argument).
     """
     if not isinstance(rng, np.random.Generator):
         raise TypeError("rng must be a numpy.random.Generator")
     if isinstance(grid, bool) or not isinstance(grid, (int, np.integer)) or grid < 2:
         raise ValueError(f"grid must be an int >= 2, got {grid!r}")
-    if not (extent > 0 and spacing > 0):
-        raise ValueError("extent and spacing must be > 0")
+    extent = _positive(extent, "extent")
+    spacing = _positive(spacing, "spacing")
+    if isinstance(n_hills, bool) or not isinstance(n_hills, (int, np.integer)) or n_hills < 0:
+        raise ValueError(f"n_hills must be an int >= 0, got {n_hills!r}")
     hills = np.column_stack([
         rng.uniform(0, extent, n_hills), rng.uniform(0, extent, n_hills),
         rng.uniform(20, 80, n_hills), rng.uniform(150, 400, n_hills),

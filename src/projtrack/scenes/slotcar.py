@@ -93,13 +93,20 @@ def make_slotcar_video(
     shape : (int, int)
         Frame size (H, W) in pixels.
     speed : float
-        Mean speed on straight parts (px/frame).
+        Mean speed on straight parts (px/frame), > 0.
     noise : float
-        Std of the per-pixel sensor noise.
+        Std of the per-pixel sensor noise, >= 0.
     bridge_width : float
-        Width of the bridge deck (px).
+        Width of the bridge deck (px), > 0.
     fps : float
-        Frame rate (only recorded).
+        Frame rate (only recorded), > 0.
+
+    Raises
+    ------
+    ValueError
+        If ``n_frames`` is not a positive int, ``shape`` is not two ints >= 16, ``speed``,
+        ``fps`` or ``bridge_width`` is not > 0, or ``noise`` is negative (each message
+        names the argument).
     scene_seed : int
         Seed of the fixed background texture (the same scene for every run).
     """
@@ -107,9 +114,19 @@ def make_slotcar_video(
         raise TypeError("rng must be a numpy.random.Generator")
     if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
         raise ValueError(f"n_frames must be a positive int, got {n_frames!r}")
-    H, W = shape
+    try:
+        H, W = shape
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"shape must be a pair of ints (H, W), got {shape!r}") from exc
+    if any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) for v in (H, W)):
+        raise ValueError(f"shape must be a pair of ints (H, W), got {shape!r}")
     if H < 16 or W < 16:
         raise ValueError(f"shape must be at least 16 x 16, got {shape}")
+    for name, value in (("speed", speed), ("fps", fps), ("bridge_width", bridge_width)):
+        if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not (isinstance(noise, (int, float, np.integer, np.floating)) and np.isfinite(noise) and noise >= 0):
+        raise ValueError(f"noise must be a finite number >= 0, got {noise!r}")
     srng = np.random.default_rng(scene_seed)
     tex = srng.normal(0, 0.09, (H + 2, W + 2))
     tex = sum(tex[i:i + H, j:j + W] for i in range(3) for j in range(3)) / 9.0
