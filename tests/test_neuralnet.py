@@ -305,3 +305,34 @@ def test_degrade_labels_and_padding():
         degrade(rng, s, n_missing=21)
     with pytest.raises(TypeError, match="TrackScene"):
         degrade(rng, pos)
+
+
+def test_assignment_cost_rejects_bad_indices():
+    rng = np.random.default_rng(3)
+    D = nn.distance_tensor(rng.normal(size=(5, 4, 3)))
+    ok = np.tile(np.arange(4)[:, None], (1, 5))
+    assert nn.assignment_cost(ok, D) >= 0.0
+    too_big = ok.copy()
+    too_big[2, 3] = 4
+    with pytest.raises(ValueError, match="assignment entries"):
+        nn.assignment_cost(too_big, D)
+    negative = ok.copy()
+    negative[0, 0] = -1
+    with pytest.raises(ValueError, match="assignment entries"):
+        nn.assignment_cost(negative, D)
+    with pytest.raises(TypeError, match="assignment"):
+        nn.assignment_cost(ok.astype(float), D)
+    with pytest.raises(ValueError, match="assignment entries"):
+        nn.coordinate_descent_assignment(D, initial=too_big)
+
+
+def test_simulate_and_make_tracks_reject_negative_noise():
+    rng = np.random.default_rng(4)
+    with pytest.raises(ValueError, match="noise_percent"):
+        nn.simulate(rng, 1, 1, -1.0)
+    with pytest.raises(ValueError, match="noise_percent"):
+        nn.simulate(rng, 1, 1, float("nan"))
+    with pytest.raises(TypeError, match="noise_percent"):
+        nn.simulate(rng, 1, 1, "5")
+    with pytest.raises(ValueError, match="noise_percent"):
+        make_tracks(rng, 4, 5, noise_percent=-0.5)

@@ -628,11 +628,28 @@ def is_correct_assignment(assignment: np.ndarray | None, labels: np.ndarray) -> 
 
 
 def assignment_cost(assignment: np.ndarray, D: np.ndarray) -> float:
-    """Summed eq. (7) distance of an assignment: term 4 of eq. (8) without ``A4``."""
+    """Summed eq. (7) distance of an assignment: term 4 of eq. (8) without ``A4``.
+
+    Parameters
+    ----------
+    assignment : array_like of int, shape (N_T, N_P)
+        Measurement index of each target in each frame, every entry in ``0..N_M-1``.
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+
+    Returns
+    -------
+    float
+    """
     D = _check_D(D)
     A = np.asarray(assignment)
     if A.ndim != 2 or A.shape[1] != D.shape[0] + 2:
         raise ValueError(f"assignment must have shape (N_T, N_P = {D.shape[0] + 2}), got {A.shape}")
+    if A.dtype == bool or not np.issubdtype(A.dtype, np.integer):
+        raise TypeError(f"assignment must hold integer measurement indices, got dtype {A.dtype}")
+    n_m = D.shape[-1]
+    if A.size and (A.min() < 0 or A.max() >= n_m):
+        raise ValueError(f"assignment entries must be measurement indices in 0..{n_m - 1} (N_M = {n_m}), "
+                         f"got values in {int(A.min())}..{int(A.max())}")
     a = np.arange(D.shape[0])
     return float(D[a[None, :], A[:, :-2], A[:, 1:-1], A[:, 2:]].sum())
 
@@ -1032,6 +1049,22 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
     starts from :func:`initial_states` and runs :func:`run_net`. All nets are run as one
     vectorized batch.
 
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    n_datasets, n_starts : int
+        Number of track sets and of random net starts per set (>= 1).
+    noise_percent : float
+        Position noise ``n >= 0`` (% of the distance from the centre), see
+        :func:`projtrack.scenes.tracks3d.perturb`.
+    n_targets, n_frames, unit, coefficients, offset, max_iter, mode, self_coupling, perturbation
+        As in :func:`projtrack.scenes.tracks3d.make_tracks`, :func:`initial_states` and
+        :func:`run_net`.
+    references : bool
+        Also solve every data set with the reference methods.
+    exact_max_targets : int
+        Largest ``N_T`` for which the exact optimum is computed.
+
     Returns
     -------
     dict of arrays
@@ -1052,6 +1085,10 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
     n_starts = _check_int(n_starts, "n_starts", 1)
     if not (np.isfinite(unit) and unit > 0):
         raise ValueError(f"unit must be > 0, got {unit}")
+    if isinstance(noise_percent, bool) or not isinstance(noise_percent, (int, float, np.integer, np.floating)):
+        raise TypeError(f"noise_percent must be a number, got {type(noise_percent).__name__}")
+    if not (np.isfinite(noise_percent) and noise_percent >= 0):
+        raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
     scenes = [make_tracks(rng, n_targets, n_frames, noise_percent=noise_percent) for _ in range(n_datasets)]
     pos = np.stack([s.positions for s in scenes]) / unit
     D = distance_tensor(pos)

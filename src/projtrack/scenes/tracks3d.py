@@ -134,6 +134,8 @@ def make_tracks(rng: np.random.Generator, n_targets: int = 4, n_frames: int = 5,
         raise ValueError(f"n_frames must be >= 2, got {n_frames}")
     if not (np.isfinite(field) and field > 0):
         raise ValueError(f"field must be > 0, got {field}")
+    if not np.isfinite(noise_percent) or noise_percent < 0:
+        raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
     if not (0 < max_length <= 1):
         raise ValueError(f"max_length must be in (0, 1], got {max_length}")
     if not (length_ratio >= 1):
