@@ -468,3 +468,152 @@ def test_fit_centered_ellipse_exact_and_bad():
     with pytest.raises(ValueError, match="not an ellipse"):
         t = np.array([0.0, 1.0, -1.0, 2.0, 0.5])
         E.fit_centered_ellipse(np.stack([np.cosh(t), np.sinh(t)], axis=1))  # points of a hyperbola
+
+
+# ---------------------------------------------------------------- bad inputs (review round)
+def test_fit_centered_ellipse_collinear_points_raise():
+    t = np.linspace(-2.0, 2.0, 10)
+    with pytest.raises(ValueError, match="degenerate"):
+        E.fit_centered_ellipse(np.stack([t, 0.5 * t], axis=1))  # all on one line through 0
+    with pytest.raises(ValueError, match="not an ellipse"):
+        E.fit_centered_ellipse(np.stack([t + 1.0, 0.5 * t], axis=1))  # on a line off the origin: Q singular
+    with pytest.raises(ValueError, match="degenerate"):
+        E.fit_centered_ellipse(np.zeros((6, 2)))
+
+
+def test_condition19_singular_and_non_psd_X():
+    Cs = S.paper_projections()
+    X_seg = np.diag([4.0, 0.0])  # a degenerate ellipse (segment)
+    holds, lhs, rhs = E.condition19(Cs, [np.array([[0.0]])] * 5, X_seg)
+    assert holds and lhs == 0.0 and rhs == 0.0  # noise-free data: LS is X itself
+    holds, lhs, rhs = E.condition19(Cs, [np.array([[1e-6]])] * 5, X_seg)
+    assert not holds and lhs > 0 and rhs == 0.0
+    with pytest.raises(ValueError, match="positive semidefinite"):
+        E.condition19(Cs, [np.array([[0.0]])] * 5, np.diag([1.0, -1.0]))
+
+
+def test_observability_matrix_rejects_wrong_number_of_As():
+    C = np.array([[1.0], [0.0]])
+    A = E.shaping_matrix(0.8, 0.9, 0, np.pi / 15)
+    with pytest.raises(ValueError, match="exactly 2"):
+        E.observability_matrix([C] * 3, [A] * 5)  # extra matrices are not ignored
+    with pytest.raises(ValueError, match="exactly 2"):
+        E.observability_matrix([C] * 3, [A])
+    with pytest.raises(ValueError, match="exactly 0"):
+        E.observability_matrix([C], [A])
+    # a single matrix is a constant dynamics and equals the explicit sequence
+    np.testing.assert_array_equal(E.observability_matrix([C] * 3, A), E.observability_matrix([C] * 3, [A] * 2))
+    Ys = [np.array([[1.0]])] * 3
+    with pytest.raises(ValueError, match="exactly 2"):
+        E.batch_rhs(Ys, [C] * 3, [A] * 2, [np.eye(2)] * 4)
+    with pytest.raises(ValueError, match="exactly 2"):
+        E.kalman_estimate(Ys, [C] * 3, [A] * 3)
+    with pytest.raises(ValueError, match="exactly 2"):
+        E.batch_estimate(Ys, [C] * 3, [A] * 4)
+
+
+def test_batch_estimate_constant_A_equals_sequence():
+    A, Bs, Xs, C, Ys = _dyn_data(5, 8)
+    np.testing.assert_allclose(E.batch_estimate(Ys, [C] * 8, A, Bs), E.batch_estimate(Ys, [C] * 8, [A] * 7, Bs))
+
+
+@pytest.mark.parametrize("sigma", [0, 0.0, -1.0, np.inf, np.nan])
+def test_snr_rejects_bad_sigma(sigma):
+    c = np.array([1.0, 2.0])
+    with pytest.raises(ValueError, match="sigma"):
+        S.snr_static(c, sigma)
+    with pytest.raises(ValueError, match="sigma"):
+        S.snr_dynamic(c, sigma)
+
+
+def test_snr_rejects_bad_ideal():
+    with pytest.raises(ValueError, match="ideal"):
+        S.snr_static([], 1.0)
+    with pytest.raises(ValueError, match="ideal"):
+        S.snr_dynamic([1.0, np.nan], 1.0)
+    with pytest.raises(TypeError, match="sigma"):
+        S.snr_static([1.0], "1")
+
+
+def test_realized_snr_static():
+    c = np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    sigma = 0.7
+    W = np.array([sigma, -sigma, sigma, -sigma, sigma])  # RMS exactly sigma
+    assert S.realized_snr_static(c, W) == pytest.approx(S.snr_static(c, sigma), rel=1e-12)
+    stack = np.stack([W, 2 * W])
+    np.testing.assert_allclose(S.realized_snr_static(c, stack), [S.snr_static(c, sigma), S.snr_static(c, 2 * sigma)])
+    with pytest.raises(ValueError, match="shape"):
+        S.realized_snr_static(c, W[:4])
+    with pytest.raises(ValueError, match="infinite"):
+        S.realized_snr_static(c, np.zeros(5))
+    with pytest.raises(ValueError, match="finite"):
+        S.realized_snr_static(c, np.full(5, np.nan))
+
+
+@pytest.mark.parametrize("n", [0, -1, 2.0, True])
+def test_random_ellipsoid_rejects_bad_n(n):
+    with pytest.raises(ValueError, match="n must"):
+        S.random_ellipsoid(n, np.random.default_rng(0))
+
+
+def test_random_ellipsoid_and_projection_bad_args():
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="min_axis"):
+        S.random_ellipsoid(2, rng, 0.0, 1.0)
+    with pytest.raises(ValueError, match="min_axis"):
+        S.random_ellipsoid(2, rng, 2.0, 1.0)
+    with pytest.raises(TypeError, match="rng"):
+        S.random_ellipsoid(2, 0)
+    with pytest.raises(ValueError, match="1 <= m <= n"):
+        S.random_projection(2, 3, rng)
+    with pytest.raises(TypeError, match="rng"):
+        S.random_projection(3, 2, None)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"n_steps": 0}, "n_steps"), ({"n_steps": -3}, "n_steps"), ({"n_steps": 2.5}, "n_steps"),
+    ({"n_steps": 4, "period": 0}, "period"), ({"n_steps": 4, "beta": -1.0}, "beta"),
+    ({"n_steps": 4, "beta": np.inf}, "beta"), ({"n_steps": 4, "rho": np.nan}, "rho"),
+])
+def test_periodic_drive_rejects_bad_inputs(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        S.periodic_drive(**kwargs)
+
+
+def test_periodic_drive_is_periodic_and_psd():
+    B = S.periodic_drive(25, period=12)
+    np.testing.assert_allclose(B[12:24], B[:12], atol=1e-12)
+    assert all(np.linalg.eigvalsh(b)[0] >= -1e-12 for b in B)
+
+
+def test_dynamic_experiment_rejects_short_horizon():
+    with pytest.raises(ValueError, match="n_steps"):
+        S.dynamic_experiment(np.random.default_rng(0), n_steps=1)
+
+
+@pytest.mark.parametrize("n_points, noise, match", [
+    (0, 0.1, "n_points"), (-2, 0.1, "n_points"), (3.0, 0.1, "n_points"),
+    (10, -0.1, "noise"), (10, np.nan, "noise"),
+])
+def test_silhouette_points_rejects_bad_inputs(n_points, noise, match):
+    rng = np.random.default_rng(0)
+    X = S.random_ellipsoid(3, rng)
+    C = S.random_projection(3, 2, rng)
+    with pytest.raises(ValueError, match=match):
+        S.silhouette_points(X, C, n_points, noise, rng)
+
+
+def test_silhouette_points_bad_geometry():
+    rng = np.random.default_rng(1)
+    X = S.random_ellipsoid(3, rng)
+    with pytest.raises(ValueError, match="n x 2"):
+        S.silhouette_points(X, S.random_projection(3, 1, rng), 10, 0.1, rng)
+    with pytest.raises(ValueError, match="orthonormal"):
+        S.silhouette_points(X, np.ones((3, 2)), 10, 0.1, rng)
+    with pytest.raises(ValueError, match="degenerate"):
+        S.silhouette_points(np.diag([1.0, 0.0, 1.0]), np.eye(3)[:, :2], 10, 0.1, rng)
+    with pytest.raises(TypeError, match="rng"):
+        S.silhouette_points(X, np.eye(3)[:, :2], 10, 0.1, 0)
+    pts = S.silhouette_points(X, np.eye(3)[:, :2], 10, 0.0, rng)  # noise-free points lie on the shadow
+    Y = E.project(X, np.eye(3)[:, :2])
+    np.testing.assert_allclose(np.einsum("ki,ij,kj->k", pts, np.linalg.inv(Y), pts), 1.0, atol=1e-10)

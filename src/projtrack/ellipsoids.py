@@ -783,18 +783,33 @@ def condition19(Cs: Sequence[object], Ws: Sequence[object], X: object) -> tuple[
     ``sigma_min(C)^{-1} sqrt(sum ||W_i||_F^2) <= lambda_min(X)`` with ``C`` the stacked
     operator of eq. (14) and ``W_i`` the perturbations of the observations (eq. 16).
 
+    ``X`` is the true ellipsoid, so it must be PSD. For a *singular* ``X`` (a degenerate
+    ellipsoid, ``lambda_min(X) = 0``; eigenvalues within the PSD tolerance of
+    :func:`is_psd` below zero are read as 0) the right-hand side is 0 and the condition
+    holds only for noise-free data, where the LS estimate is ``X`` itself: any
+    perturbation can make the estimate of a degenerate ellipsoid indefinite. When the
+    stacked operator is rank deficient (``sigma_min = 0``) ``lhs`` is ``inf`` and the
+    condition does not hold.
+
     Returns
     -------
     (holds, lhs, rhs) : (bool, float, float)
+
+    Raises
+    ------
+    ValueError
+        If ``X`` is not PSD, or ``Cs``/``Ws`` are inconsistent (see :func:`reconstruct`).
     """
     Cl = _check_Cs(Cs)
     Xm = check_symmetric(X, "X", Cl[0].shape[0])
+    if not is_psd(Xm):
+        raise ValueError("X (the true ellipsoid) must be positive semidefinite for condition (19)")
     Wl = _check_Ys(Ws, Cl, "Ws")
     s = np.linalg.svd(np.vstack([congruence_operator(C) for C in Cl]), compute_uv=False)
     smin = float(s[-1]) if len(s) >= _dim(Xm.shape[0]) else 0.0
     noise = float(np.sqrt(sum(np.sum(W**2) for W in Wl)))
     lhs = np.inf if smin <= 1e-14 else noise / smin
-    rhs = float(np.linalg.eigvalsh(Xm)[0])
+    rhs = max(float(np.linalg.eigvalsh(Xm)[0]), 0.0)
     return bool(lhs <= rhs), float(lhs), rhs
 
 
@@ -817,7 +832,10 @@ def fit_centered_ellipse(points: object) -> np.ndarray:
     Raises
     ------
     ValueError
-        If there are too few points or the fitted conic is not an ellipse.
+        If there are too few points, the points do not determine a conic (collinear
+        points, points on fewer than ``m`` lines through the origin...: the design matrix
+        of the linear LS problem is rank deficient, relative condition below 1e-10), or
+        the fitted conic is not an ellipse.
     """
     P = _as_float_array(points, "points")
     if P.ndim != 2 or P.shape[1] < 1:
@@ -826,11 +844,16 @@ def fit_centered_ellipse(points: object) -> np.ndarray:
     if P.shape[0] < _dim(m):
         raise ValueError(f"need at least {_dim(m)} points for an ellipse in {m} dimensions, got {P.shape[0]}")
     G = svec(np.einsum("ki,kj->kij", P, P))  # <p p^T, Q> = svec(p p^T) . svec(Q)
+    sv = np.linalg.svd(G, compute_uv=False)
+    if sv[0] == 0 or sv[-1] <= 1e-10 * sv[0]:
+        raise ValueError("points are degenerate (e.g. collinear or at the origin): they do not determine "
+                         f"a centered ellipse in {m} dimensions (design matrix rank deficient)")
     q, *_ = np.linalg.lstsq(G, np.ones(P.shape[0]), rcond=None)
     Q = smat(q)
     lam = np.linalg.eigvalsh(Q)
-    if lam[0] <= 0:
-        raise ValueError("the fitted conic is not an ellipse (points too noisy or degenerate)")
+    if lam[0] <= 1e-10 * abs(lam[-1]):
+        raise ValueError("the fitted conic is not an ellipse (points too noisy or degenerate, e.g. "
+                         "on a line: the fitted Q = Y^{-1} is indefinite or singular)")
     Y = np.linalg.inv(Q)
     return (Y + Y.T) / 2
 
@@ -860,16 +883,27 @@ def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarr
     return _rot_t(psi) @ (tau * np.eye(2)) @ np.diag([alpha, 1.0 / alpha]) @ _rot_t(phi)
 
 
-def _seq(M: object, K: int, name: str, n: int, square: bool, symmetric: bool) -> list[np.ndarray]:
+def _seq(M: object, K: int, name: str, n: int, square: bool, symmetric: bool,
+         exact: bool = False) -> list[np.ndarray]:
     arr = _as_float_array(M, name)
     if arr.ndim == 2:
         arr = np.broadcast_to(arr, (K,) + arr.shape)
+    if exact and arr.ndim == 3 and arr.shape[0] != K:
+        raise ValueError(f"{name} must be one {n} x {n} matrix or a sequence of exactly {K} of them "
+                         f"(one per transition between the given views), got {arr.shape[0]}")
     if arr.ndim != 3 or arr.shape[0] < K or arr.shape[1:] != (n, n):
         raise ValueError(f"{name} must be an {n} x {n} matrix or a sequence of at least {K} of them, got shape {arr.shape}")
     out = [np.array(a) for a in arr[:K]]
     if symmetric:
         out = [check_symmetric(a, f"{name}[{k}]", n) for k, a in enumerate(out)]
     return out
+
+
+def _mats(M: object, name: str, n: int) -> np.ndarray:
+    """A matrix or a sequence of matrices as a float array; an empty sequence as shape (0, n, n)."""
+    if isinstance(M, (list, tuple)) and len(M) == 0:
+        return np.zeros((0, n, n))
+    return _as_float_array(M, name)
 
 
 def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = None) -> np.ndarray:
@@ -908,11 +942,19 @@ def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None
 def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarray:
     """The batch (observability) matrix of eq. (25): rows ``C~_k A~_{k-1} ... A~_0``.
 
-    ``Cs`` has ``r + 1`` projections (times ``0..r``); ``As`` at least ``r`` dynamics matrices.
+    ``Cs`` has ``r + 1`` projections (times ``0..r``); ``As`` is one ``n x n`` matrix (a
+    constant dynamics) or a sequence of exactly ``r`` matrices ``A_0..A_{r-1}``.
+
+    Raises
+    ------
+    ValueError
+        If ``As`` is a sequence whose length is not ``len(Cs) - 1`` (extra matrices are
+        not silently ignored: they would belong to views that were not given).
     """
     Cl = _check_Cs(Cs)
     n = Cl[0].shape[0]
-    Al = _seq(np.asarray(As, float) if len(As) else np.zeros((0, n, n)), len(Cl) - 1, "As", n, True, False) if len(Cl) > 1 else []
+    As_arr = _mats(As, "As", n)
+    Al = _seq(As_arr, len(Cl) - 1, "As", n, True, False, exact=True)
     Phi = np.eye(_dim(n))
     rows = []
     for k, C in enumerate(Cl):
@@ -923,13 +965,18 @@ def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarr
 
 
 def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None) -> np.ndarray:
-    """The corrected observation vector ``y`` of eq. (25) (known drive removed)."""
+    """The corrected observation vector ``y`` of eq. (25) (known drive removed).
+
+    ``As`` and ``Bs`` are one matrix each (constant) or sequences of exactly
+    ``len(Cs) - 1`` matrices (ValueError otherwise).
+    """
     Cl = _check_Cs(Cs)
     Yl = _check_Ys(Ys, Cl)
     n = Cl[0].shape[0]
     K = len(Cl)
-    Al = _seq(np.asarray(As, float), K - 1, "As", n, True, False) if K > 1 else []
-    Bl = _seq(np.zeros((n, n)) if Bs is None else np.asarray(Bs, float), K - 1, "Bs", n, True, True) if K > 1 else []
+    Al = _seq(_mats(As, "As", n), K - 1, "As", n, True, False, exact=True)
+    Bl = _seq(np.zeros((n, n)) if Bs is None else _mats(Bs, "Bs", n),
+              K - 1, "Bs", n, True, True, exact=True)
     forced = np.zeros(_dim(n))  # response at time k to the drive alone, zero initial state
     out = []
     for k, (C, Y) in enumerate(zip(Cl, Yl)):
@@ -982,8 +1029,7 @@ def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obje
         X0 = halfspace_reconstruct(None, None, L, U, A=O, y=y, **options).X  # type: ignore[arg-type]
     else:
         X0 = sdp_reconstruct(O, y, L, U, **options)  # type: ignore[arg-type]
-    Bl = None if Bs is None else list(Bs)[:K - 1]
-    return simulate(X0, list(As)[:K - 1], Bl, K - 1)
+    return simulate(X0, _mats(As, "As", n), None if Bs is None else _mats(Bs, "Bs", n), K - 1)
 
 
 @dataclass
@@ -1037,8 +1083,9 @@ def kalman_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obj
     n = Cl[0].shape[0]
     N = _dim(n)
     K = len(Cl)
-    Al = _seq(np.asarray(As, float), K - 1, "As", n, True, False) if K > 1 else []
-    Bl = _seq(np.zeros((n, n)) if Bs is None else np.asarray(Bs, float), K - 1, "Bs", n, True, True) if K > 1 else []
+    Al = _seq(_mats(As, "As", n), K - 1, "As", n, True, False, exact=True)
+    Bl = _seq(np.zeros((n, n)) if Bs is None else _mats(Bs, "Bs", n),
+              K - 1, "Bs", n, True, True, exact=True)
     m = Cl[0].shape[1]
     if any(C.shape[1] != m for C in Cl):
         raise ValueError("kalman_estimate needs projections of one dimension m for all times")

@@ -9,7 +9,9 @@ Sec. 7.2. This module makes:
 * :func:`lognormal_noise` - the one-sided, zero-mean log-normal perturbation of Sec. 7:
   ``Y = c + W`` with ``Y`` log-normal of mean ``c`` and the given variance, so the left
   support point of ``W`` is ``-c`` and ``Y`` is never negative;
-* :func:`snr_static`, :func:`snr_dynamic` - the two SNR definitions of Sec. 7.1 and 7.2;
+* :func:`snr_static`, :func:`snr_dynamic` - the two SNR definitions of Sec. 7.1 and 7.2
+  (with the nominal noise standard deviation), and :func:`realized_snr_static` - the SNR of
+  Sec. 7.1 with the root-mean-square of the perturbations actually drawn;
 * :func:`periodic_drive` - a documented choice of periodic PSD drive for Sec. 7.2 (the
   paper shows it only as a picture, Fig. 10): ``B_k = beta s_k R(pi k / P) diag(1, rho)
   R(pi k / P)^T`` with ``s_k = (1 + cos(2 pi k / P)) / 2``; it pulses (period ``P``) and
@@ -23,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "periodic_drive",
+__all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "realized_snr_static", "periodic_drive",
            "random_ellipsoid", "random_projection", "rotation", "silhouette_points"]
 
 #: The underlying ellipse of eq. (26) of KVW: semi-axes 2 and 1, major axis at pi/4.
@@ -76,15 +78,75 @@ def lognormal_noise(ideal: object, variance: float, rng: np.random.Generator) ->
     return rng.lognormal(mu, np.sqrt(s2)) - c
 
 
+def _ideal(ideal: object) -> np.ndarray:
+    try:
+        c = np.asarray(ideal, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError("ideal must be an array of real numbers") from None
+    if c.size == 0 or not np.all(np.isfinite(c)):
+        raise ValueError("ideal must be a non-empty array of finite values")
+    return c
+
+
+def _sigma(sigma: float) -> float:
+    if isinstance(sigma, bool) or not isinstance(sigma, (int, float, np.integer, np.floating)):
+        raise TypeError(f"sigma must be a real number, got {type(sigma).__name__}")
+    if not (np.isfinite(sigma) and sigma > 0):
+        raise ValueError(f"sigma (the noise standard deviation) must be a positive finite number, got {sigma!r}")
+    return float(sigma)
+
+
 def snr_static(ideal: object, sigma: float) -> float:
-    """SNR of Sec. 7.1: ``sqrt(sum c_k^2) / (sigma sqrt(n))``, ``n`` the number of observations."""
-    c = np.asarray(ideal, dtype=float).ravel()
-    return float(np.sqrt(np.sum(c**2)) / (sigma * np.sqrt(c.size)))
+    """SNR of Sec. 7.1: ``sqrt(sum c_k^2) / (sigma sqrt(n))``, ``n`` the number of observations.
+
+    Raises ``ValueError`` unless ``sigma > 0`` and ``ideal`` is non-empty and finite.
+    """
+    c = _ideal(ideal).ravel()
+    return float(np.sqrt(np.sum(c**2)) / (_sigma(sigma) * np.sqrt(c.size)))
+
+
+def realized_snr_static(ideal: object, W: object) -> np.ndarray | float:
+    """The SNR of Sec. 7.1 with ``sigma`` replaced by the RMS of the drawn perturbations ``W``.
+
+    Parameters
+    ----------
+    ideal : array_like, shape (n,)
+        Ideal observations ``c_k``.
+    W : array_like, shape (n,) or (n_draws, n)
+        One draw or a stack of draws of the perturbations (last axis: the observations).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``sqrt(sum c_k^2) / (rms(W) sqrt(n))`` per draw.
+
+    Raises
+    ------
+    ValueError
+        If the shapes disagree, values are not finite or a draw is all zeros (infinite SNR).
+    """
+    c = _ideal(ideal).ravel()
+    try:
+        w = np.asarray(W, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError("W must be an array of real numbers") from None
+    if w.ndim not in (1, 2) or w.shape[-1] != c.size:
+        raise ValueError(f"W must have shape ({c.size},) or (n_draws, {c.size}), got {w.shape}")
+    if not np.all(np.isfinite(w)):
+        raise ValueError("W must contain only finite values")
+    rms = np.sqrt(np.mean(w**2, axis=-1))
+    if np.any(rms == 0):
+        raise ValueError("W has a draw of all zeros: the realized SNR is infinite")
+    out = np.sqrt(np.sum(c**2)) / (rms * np.sqrt(c.size))
+    return float(out) if w.ndim == 1 else out
 
 
 def snr_dynamic(ideal: object, sigma: float) -> float:
-    """Average SNR of Sec. 7.2: the mean of the ideal scalar observations divided by ``sigma``."""
-    return float(np.mean(np.asarray(ideal, dtype=float)) / sigma)
+    """Average SNR of Sec. 7.2: the mean of the ideal scalar observations divided by ``sigma``.
+
+    Raises ``ValueError`` unless ``sigma > 0`` and ``ideal`` is non-empty and finite.
+    """
+    return float(np.mean(_ideal(ideal)) / _sigma(sigma))
 
 
 def periodic_drive(n_steps: int, beta: float = 2.0, period: int = 12, rho: float = 0.25) -> np.ndarray:
@@ -92,13 +154,20 @@ def periodic_drive(n_steps: int, beta: float = 2.0, period: int = 12, rho: float
 
     ``beta = 2`` makes the average ideal observation of the simulated ellipse of Sec. 7.2
     about 2, i.e. an average SNR about 1 with noise variance 4, as the paper states.
+
+    Raises
+    ------
+    ValueError
+        Unless ``n_steps`` and ``period`` are positive ints and ``beta``, ``rho`` are
+        finite and non-negative.
     """
-    if not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
-        raise ValueError("n_steps must be a non-negative int")
-    if not isinstance(period, (int, np.integer)) or period < 1:
-        raise ValueError("period must be a positive int")
-    if not (beta >= 0 and 0 <= rho):
-        raise ValueError("beta and rho must be non-negative")
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
+        raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
+    if isinstance(period, bool) or not isinstance(period, (int, np.integer)) or period < 1:
+        raise ValueError(f"period must be a positive int, got {period!r}")
+    for name, v in (("beta", beta), ("rho", rho)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not (np.isfinite(v) and v >= 0):
+            raise ValueError(f"{name} must be a finite non-negative number, got {v!r}")
     out = []
     for k in range(n_steps):
         s = (1 + np.cos(2 * np.pi * k / period)) / 2
@@ -109,9 +178,19 @@ def periodic_drive(n_steps: int, beta: float = 2.0, period: int = 12, rho: float
 
 
 def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, max_axis: float = 2.0) -> np.ndarray:
-    """A random ``n x n`` positive definite matrix: Haar-random axes, semi-axes uniform in [min, max]."""
+    """A random ``n x n`` positive definite matrix: Haar-random axes, semi-axes uniform in [min, max].
+
+    Raises ``ValueError`` unless ``n`` is a positive int and ``0 < min_axis <= max_axis``
+    (finite); ``TypeError`` if ``rng`` is not a ``numpy.random.Generator``.
+    """
     from scipy.stats import special_ortho_group
 
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    if not (np.isfinite(min_axis) and np.isfinite(max_axis) and 0 < min_axis <= max_axis):
+        raise ValueError(f"need finite 0 < min_axis <= max_axis, got {min_axis!r}, {max_axis!r}")
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError("rng must be a numpy.random.Generator")
     if n == 1:
         return np.array([[rng.uniform(min_axis, max_axis) ** 2]])
     Q = special_ortho_group.rvs(n, random_state=rng)
@@ -122,8 +201,13 @@ def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, ma
 
 def random_projection(n: int, m: int, rng: np.random.Generator) -> np.ndarray:
     """A Haar-random ``n x m`` matrix with orthonormal columns (an m-dimensional view)."""
+    for name, v in (("n", n), ("m", m)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ValueError(f"{name} must be an int, got {v!r}")
     if not (1 <= m <= n):
-        raise ValueError("need 1 <= m <= n")
+        raise ValueError(f"need 1 <= m <= n, got n={n}, m={m}")
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError("rng must be a numpy.random.Generator")
     Q, R = np.linalg.qr(rng.normal(size=(n, m)))
     return Q * np.sign(np.diag(R))
 
@@ -166,6 +250,8 @@ def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: fl
     """
     from projtrack import ellipsoids as E
 
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
+        raise ValueError(f"n_steps must be an int >= 2 (at least one transition), got {n_steps!r}")
     A = E.shaping_matrix(tau, alpha, psi, phi)
     Bs = periodic_drive(n_steps - 1)
     As = [A] * (n_steps - 1)
@@ -184,11 +270,32 @@ def silhouette_points(X: np.ndarray, C: np.ndarray, n_points: int, noise: float,
     The exact shadow ``Y = C^T X C`` (eq. 4 of KVW) is sampled at ``n_points`` angles chosen
     uniformly at random; each point is moved along the boundary normal by Gaussian noise of
     standard deviation ``noise`` (an edge detector's error), in the coordinates of ``C``.
+
+    Raises
+    ------
+    ValueError
+        If ``X`` is not a symmetric positive definite-in-the-view matrix, ``C`` is not an
+        ``n x 2`` matrix with orthonormal columns, ``n_points`` is not a positive int or
+        ``noise`` is negative or not finite.
+    TypeError
+        If ``rng`` is not a ``numpy.random.Generator``.
     """
-    Y = C.T @ X @ C
-    if Y.shape != (2, 2):
-        raise ValueError("silhouette_points makes 2-D silhouettes: C must be n x 2")
-    lam, V = np.linalg.eigh((Y + Y.T) / 2)
+    from projtrack import ellipsoids as E
+
+    Xm = E.check_symmetric(X, "X")
+    Cm = E.check_orthonormal(C, "C", Xm.shape[0])
+    if Cm.shape[1] != 2:
+        raise ValueError(f"silhouette_points makes 2-D silhouettes: C must be n x 2, got shape {Cm.shape}")
+    if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 1:
+        raise ValueError(f"n_points must be a positive int, got {n_points!r}")
+    if isinstance(noise, bool) or not isinstance(noise, (int, float, np.integer, np.floating)) or not (np.isfinite(noise) and noise >= 0):
+        raise ValueError(f"noise must be a finite non-negative standard deviation, got {noise!r}")
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError("rng must be a numpy.random.Generator")
+    Y = E.project(Xm, Cm)
+    lam, V = np.linalg.eigh(Y)
+    if lam[0] <= 1e-12 * max(1.0, lam[1]):
+        raise ValueError("the silhouette of X in the view C is degenerate (X must be positive definite in the view)")
     t = rng.uniform(0, 2 * np.pi, n_points)
     u = np.stack([np.cos(t), np.sin(t)], axis=1)
     p = (u * np.sqrt(lam)) @ V.T  # boundary points
