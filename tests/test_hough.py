@@ -322,6 +322,8 @@ def test_initiator_finds_separated_straight_tracks():
     last = np.array([np.add(s, np.multiply(v, times[-1])) for s, v in zip(starts, vels)])
     for tr in tracks:
         assert np.min(np.linalg.norm(last - tr.position, axis=1)) < 6.0
+    assert init.empty_peaks_ == [] and len(init.tracks_) == len(init.peaks_)
+    assert all(np.all(np.isfinite(t.position)) for t in init.tracks_)
 
 
 def test_evaluate_initiation_counts_false_and_true_lines():
@@ -333,6 +335,7 @@ def test_evaluate_initiation_counts_false_and_true_lines():
     assert r["n_lines"] == r["n_true_lines"] + r["n_false_lines"]
     assert r["n_found"] <= r["n_targets"] <= 4
     assert all(t["target"] in r["found"] for t in r["tracks"])
+    assert all(abs(t["pos_err_along"]) <= t["pos_err"] + 1e-9 for t in r["tracks"])
 
 
 def test_match_lines():
@@ -466,3 +469,27 @@ def test_window_neighbours():
     assert list(window_neighbours([(0, 10), (10, 10), (0, 20)])) == [False, False, False]
     with pytest.raises(ValueError):
         line_through([[1.0, 1.0]], SHAPE)
+
+
+def test_empty_strip_raises_instead_of_nan():
+    with pytest.raises(ValueError, match="all zero"):
+        project_and_correlate(np.zeros(40, dtype=int))
+    # one point far from the line y = 0 (theta = 90 deg): the strip |y'| <= 2 is empty
+    with pytest.raises(ValueError, match="holds none of the points"):
+        estimate_track([[10.0, 200.0]], SHAPE, 0.0, 90.0, frame_time=0.25, n_frames=3)
+    with pytest.raises(ValueError, match="holds none of the points"):
+        estimate_track(np.zeros((0, 2)), SHAPE, 0.0, 90.0, frame_time=0.25, n_frames=3)
+
+
+def test_nonempty_strip_gives_finite_estimate():
+    r = project_and_correlate([0, 0, 1, 0])
+    assert np.isfinite(r.x_prime) and r.confirmed
+    est = estimate_track([[128.0, 130.0]], SHAPE, 0.0, 0.0, frame_time=0.25, n_frames=1)
+    assert np.all(np.isfinite(est.position)) and np.isfinite(est.speed)
+
+
+def test_line_through_rejects_identical_points():
+    with pytest.raises(ValueError, match="distinct"):
+        line_through([[5.0, 7.0], [5.0, 7.0], [5.0, 7.0]], SHAPE)
+    rho, theta = line_through([[5.0, 7.0], [5.0, 7.0], [6.0, 7.0]], SHAPE)
+    assert theta == pytest.approx(90.0)

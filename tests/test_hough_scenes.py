@@ -106,3 +106,12 @@ def test_bad_inputs():
         straight_targets(0, 5.0, rng=rng)
     with pytest.raises(RuntimeError):
         in_view_launches(rng, 3, frame_times(21, 0.25), max_tries=2, site_y_range=(-500, -400))
+    with pytest.raises(ValueError, match="non-negative int"):
+        in_view_launches(rng, -1, frame_times(21, 0.25))
+    with pytest.raises(ValueError, match="non-negative int"):
+        in_view_launches(rng, 2.5, frame_times(21, 0.25))
+    with pytest.raises(TypeError, match="Generator"):
+        in_view_launches(0, 2, frame_times(21, 0.25))
+    with pytest.raises(ValueError, match="max_tries"):
+        in_view_launches(rng, 2, frame_times(21, 0.25), max_tries=0)
+    assert in_view_launches(rng, 0, frame_times(21, 0.25)) == []

@@ -755,6 +755,12 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     Returns
     -------
     ProjectionResult
+
+    Raises
+    ------
+    ValueError
+        If ``counts`` is empty, not 1-D, negative or not finite, or all zero (an empty
+        strip has no run of ones: neither the 75 % test nor Eq. (5) is defined).
     """
     c = np.asarray(counts)
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c)) or np.any(c < 0):
@@ -767,7 +773,8 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     c = c.astype(float)
     n_ones = int(round(c.sum()))
     if n_ones == 0:
-        return ProjectionResult(False, 0, 1, 0.0, 0, 0, 0.0, float("nan"), ())
+        raise ValueError("counts are all zero (an empty strip): there is no run to correlate and no "
+                         "position x' to estimate")
     history = []
     dx = 1
     P = c
@@ -783,7 +790,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     confirmed = I >= confirm_fraction * n_ones
     j = start + L - 1
     P_j = float(P[j])
-    x_prime = float(x0 + dx * (j + (P_j - 0.5) * L / I)) if I > 0 else float("nan")  # Eq. (5)
+    x_prime = float(x0 + dx * (j + (P_j - 0.5) * L / I))  # Eq. (5); I >= 1 since some P_j > 0
     return ProjectionResult(bool(confirmed), n_ones, int(dx), float(I), int(L), int(j), P_j, x_prime,
                             tuple(history))
 
@@ -893,6 +900,13 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     speed by Eq. (7), ``v = dx' P_D L / (I T)`` (Eq. (6) when ``P_D = 1``); the
     velocity points along the line in the direction of ``heading_hint``. The
     covariance is :func:`track_covariance` rotated to image axes.
+
+    Raises
+    ------
+    ValueError
+        If an input is invalid, or if the strip ``|y'| <= drho`` around the line holds
+        none of ``points`` (there is then no track to confirm or estimate; use
+        :func:`strip_projection` to test a line first).
     """
     shape = _check_shape(shape)
     T = _check_positive(frame_time, "frame_time")
@@ -900,16 +914,15 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
         raise ValueError(f"p_detect must be in (0, 1], got {p_detect!r}")
     counts, x0, d = strip_projection(points, shape, rho, theta_deg, half_width=drho,
                                      heading_hint=heading_hint, origin=origin)
+    if not np.any(counts):
+        raise ValueError(f"the strip |y'| <= {drho:g} around the line (rho={float(rho):g}, "
+                         f"theta_deg={float(theta_deg):g}) holds none of the points: no track to estimate")
     res = project_and_correlate(counts, x0, dx_max=dx_max, confirm_fraction=confirm_fraction)
     t = np.deg2rad(theta_deg)
     n = np.array([np.cos(t), np.sin(t)])
     cx, cy = _origin_xy(shape, origin)
-    if res.I > 0:
-        speed = res.dx * p_detect * res.L / res.I / T  # Eq. (7); Eq. (6) for P_D = 1
-        position = np.array([cx, cy]) + res.x_prime * d + rho * n
-    else:
-        speed = 0.0
-        position = np.array([np.nan, np.nan])
+    speed = res.dx * p_detect * res.L / res.I / T  # Eq. (7); Eq. (6) for P_D = 1
+    position = np.array([cx, cy]) + res.x_prime * d + rho * n
     cov = track_covariance(speed, T, n_frames, drho=drho, jitter_sigma=jitter_sigma)
     Rm = np.column_stack([d, n])  # columns: x' and y' axes in image coordinates
     P = Rm @ np.diag([cov["var_x"], cov["var_y"]]) @ Rm.T
@@ -964,7 +977,11 @@ class TrackInitiator:
     peaks_ : list of HoughPeak
         The detected peaks.
     tracks_ : list of TrackEstimate
-        One per peak, confirmed or not.
+        One per peak whose strip holds at least one point, confirmed or not.
+    empty_peaks_ : list of HoughPeak
+        Peaks whose strip ``|y'| <= drho`` holds no point of the composite (possible
+        only for a peak interpolated between cells); they are neither confirmed nor
+        estimated, since :func:`estimate_track` rejects an empty strip.
     frame_time_ : float
         The frame time ``T`` of the last stack.
     """
@@ -1053,13 +1070,20 @@ class TrackInitiator:
         floor = self.default_min_votes(n) if self.min_votes is None else self.min_votes
         peaks = detect_peaks(H, rhos, thetas, ratio=self.ratio, bridge=self.bridge, min_votes=floor)
         comp = np.concatenate(pts, axis=0)
-        tracks = [estimate_track(comp, shape, p.rho, p.theta_deg, frame_time=T, n_frames=n, drho=self.drho,
-                                 p_detect=self.p_detect, jitter_sigma=self.jitter_sigma, dx_max=self.dx_max,
-                                 confirm_fraction=self.confirm_fraction, heading_hint=self.heading_hint,
-                                 votes=p.votes)
-                  for p in peaks]
+        tracks, empty = [], []
+        for p in peaks:
+            counts, _, _ = strip_projection(comp, shape, p.rho, p.theta_deg, half_width=self.drho,
+                                            heading_hint=self.heading_hint)
+            if not np.any(counts):  # possible only for a peak bridged between cells: nothing to project
+                empty.append(p)
+                continue
+            tracks.append(estimate_track(comp, shape, p.rho, p.theta_deg, frame_time=T, n_frames=n,
+                                         drho=self.drho, p_detect=self.p_detect, jitter_sigma=self.jitter_sigma,
+                                         dx_max=self.dx_max, confirm_fraction=self.confirm_fraction,
+                                         heading_hint=self.heading_hint, votes=p.votes))
         self.H_, self.rhos_, self.thetas_deg_ = H, rhos, thetas
         self.peaks_, self.tracks_, self.frame_time_ = peaks, tracks, T
+        self.empty_peaks_ = empty
         return [t for t in tracks if t.confirmed]
 
 
@@ -1120,8 +1144,10 @@ def evaluate_initiation(initiator: TrackInitiator, frames: object, trajectories:
     every frame), ``n_lines``, ``n_true_lines``, ``n_false_lines``, ``n_confirmed``,
     ``n_found`` (targets with a confirmed line), ``n_false_confirmed``, the sets
     ``found`` and ``full_view``, and per confirmed true track (list ``tracks``) the
-    target, the position error at the last frame and, when ``trajectories`` are given,
-    the error and the along-track shortfall of the prediction ``predict_frames`` ahead.
+    target, the position error at the last frame (``pos_err``, and its signed component
+    along the track ``pos_err_along``, positive when the estimate lies ahead of the truth)
+    and, when ``trajectories`` are given, the error and the along-track shortfall of the
+    prediction ``predict_frames`` ahead.
     """
     pts, labs = frames.points, frames.labels  # type: ignore[attr-defined]
     times, truth, shape = frames.times, frames.truth, frames.shape  # type: ignore[attr-defined]
@@ -1147,7 +1173,7 @@ def evaluate_initiation(initiator: TrackInitiator, frames: object, trajectories:
         if not tr.confirmed or o < 0:
             continue
         row = {"target": int(o), "pos_err": float(np.linalg.norm(tr.position - truth[-1, o])),
-               "speed": tr.speed}
+               "pos_err_along": float((tr.position - truth[-1, o]) @ tr.direction), "speed": tr.speed}
         if trajectories is not None:
             t_future = times[-1] + predict_frames * T
             true_f = np.asarray(trajectories[o].position(t_future))
@@ -1241,8 +1267,8 @@ def line_through(points: object, shape: tuple[int, int], *, origin: str = "cente
     """
     shape = _check_shape(shape)
     pts = _check_points(points, shape)
-    if pts.shape[0] < 2:
-        raise ValueError("points must hold at least two points to define a line")
+    if pts.shape[0] < 2 or np.all(pts == pts[0]):
+        raise ValueError("points must hold at least two distinct points to define a line")
     cx, cy = _origin_xy(shape, _check_origin(origin))
     c = pts.mean(axis=0)
     _, _, vt = np.linalg.svd(pts - c, full_matrices=False)

@@ -175,9 +175,20 @@ def in_view_launches(rng: np.random.Generator, n: int, times: object, *,
 
     Raises
     ------
+    TypeError
+        If ``rng`` is not a ``numpy.random.Generator``.
+    ValueError
+        If ``n`` is not a non-negative int, ``max_tries`` not a positive int, or
+        ``times`` not a non-empty 1-D array of finite times.
     RuntimeError
         If ``max_tries`` draws do not give ``n`` such launches.
     """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"n must be a non-negative int, got {n!r}")
+    if isinstance(max_tries, bool) or not isinstance(max_tries, (int, np.integer)) or max_tries < 1:
+        raise ValueError(f"max_tries must be a positive int, got {max_tries!r}")
     shape = _check_shape(shape)
     t = np.asarray(times, dtype=float)
     if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)):
