@@ -1,5 +1,9 @@
 """pytest configuration shared by the unit tests, nbval and the figure-regression test.
 
+It lives at the repository root so that it applies to every pytest run, including
+``pytest --nbval book/<folder>`` on a single chapter: nbval's kernels then never write
+into the committed ``figures/``.
+
 When pytest runs with ``--nbval``, every notebook kernel inherits
 ``PROJTRACK_FIGURES_DIR`` pointing to a fresh temporary folder, so nbval's re-execution of
 the notebooks regenerates every figure and table there without touching the committed
@@ -16,7 +20,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, settings
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parent
 
 settings.register_profile(
     "projtrack", deadline=None, max_examples=60, suppress_health_check=[HealthCheck.too_slow]
