@@ -631,7 +631,9 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
         ``store_intermediates`` is False).
     store_intermediates : bool
         Keep the vectors of target 1's chain and reuse their common suffix in the
-        chains of the other targets (the paper's remark after Table VI).
+        chains of the other targets: one storage scheme of this package for the
+        remark after Table VI ("when intermediate vectors are stored"), which does
+        not say how the paper stored them.
     vip_noise : float
         Models the analog processor of Sec. IV: every vector produced by a stage of
         inner products gets additive Gaussian noise of standard deviation
