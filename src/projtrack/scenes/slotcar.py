@@ -100,6 +100,8 @@ def make_slotcar_video(
         Width of the bridge deck (px), > 0.
     fps : float
         Frame rate (only recorded), > 0.
+    scene_seed : int
+        Seed of the fixed background texture (the same scene for every run).
 
     Raises
     ------
@@ -107,8 +109,6 @@ def make_slotcar_video(
         If ``n_frames`` is not a positive int, ``shape`` is not two ints >= 16, ``speed``,
         ``fps`` or ``bridge_width`` is not > 0, or ``noise`` is negative (each message
         names the argument).
-    scene_seed : int
-        Seed of the fixed background texture (the same scene for every run).
     """
     if not isinstance(rng, np.random.Generator):
         raise TypeError("rng must be a numpy.random.Generator")
