@@ -14,13 +14,13 @@ sizes, would exceed ``CAP`` seconds (the exact methods grow exponentially). Run:
 
 from __future__ import annotations
 
-import datetime
 import time
 import warnings
 
 import numpy as np
 
 from projtrack import jpda
+from projtrack._peers import stonesoup_jpda
 
 CAP = 2.5  # seconds: a method is not run at a size whose predicted time exceeds this
 P_D, P_G, LAM = 0.9, 0.9999, 1e-3
@@ -39,41 +39,8 @@ def problem(n: int, rng: np.random.Generator):
 
 def stonesoup_peer(z, zp, S, ehm: bool):
     """A Stone Soup associator with precomputed hypotheses on the same problem."""
-    from stonesoup.dataassociator.probability import JPDA, JPDAwithEHM
-    from stonesoup.hypothesiser.probability import PDAHypothesiser
-    from stonesoup.models.measurement.linear import LinearGaussian
-    from stonesoup.models.transition.linear import (
-        CombinedLinearGaussianTransitionModel, RandomWalk)
-    from stonesoup.predictor.kalman import KalmanPredictor
-    from stonesoup.types.detection import Detection
-    from stonesoup.types.state import GaussianState
-    from stonesoup.types.track import Track
-    from stonesoup.updater.kalman import KalmanUpdater
-
-    t0 = datetime.datetime(2000, 1, 1)
-    # zero-noise random walk: the prediction is the state; H = I, R = S - P
-    trans = CombinedLinearGaussianTransitionModel([RandomWalk(0.0), RandomWalk(0.0)])
-    meas = LinearGaussian(ndim_state=2, mapping=(0, 1), noise_covar=S[0] - np.eye(2))
-    tracks = [Track([GaussianState(p.reshape(2, 1), np.eye(2), timestamp=t0)]) for p in zp]
-    dets = [Detection(x.reshape(2, 1), timestamp=t0, measurement_model=meas) for x in z]
-    hyp = PDAHypothesiser(KalmanPredictor(trans), KalmanUpdater(meas),
-                          clutter_spatial_density=LAM, prob_detect=P_D, prob_gate=P_G)
-    assoc = (JPDAwithEHM if ehm else JPDA)(hyp)
-    hyps = assoc.generate_hypotheses(set(tracks), set(dets), t0)
-    assoc.generate_hypotheses = lambda *a, **k: hyps
-
-    def run():
-        out = assoc.associate(set(tracks), set(dets), t0)
-        b = np.zeros((len(z) + 1, len(zp)))
-        for t, tr in enumerate(tracks):
-            for h in out[tr]:
-                if h.measurement.__class__.__name__ == "MissedDetection":
-                    b[0, t] = float(h.probability)
-                else:
-                    b[1 + dets.index(h.measurement), t] = float(h.probability)
-        return b / b.sum(axis=0)
-
-    return run
+    return stonesoup_jpda(z, zp, S, ehm=ehm, p_detect=P_D, p_gate=P_G, clutter_density=LAM,
+                          precompute_hypotheses=True)
 
 
 def best_time(fn, repeats: int) -> tuple[float, np.ndarray]:
