@@ -12,21 +12,12 @@ Run: ``python benchmarks/bench_correlators.py`` (about 20-40 s).
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
 from projtrack import correlators as C
 from projtrack.scenes import letters
-
-
-def best_of(fn, repeats: int) -> float:
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+from _timing import best_of
 
 
 def main() -> None:

@@ -18,24 +18,15 @@ Run: ``python benchmarks/bench_dma.py``. Prints the best of a few repeats and ra
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import scipy.sparse as sp
 
 from projtrack import dma
+from _timing import best_of
 
 N, S, K = 10_000, 1_200, 5
 N_DENSE = 400
-
-
-def best_of(fn, repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main() -> None:

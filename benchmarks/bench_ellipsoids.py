@@ -10,21 +10,12 @@ symmetric Gaussian noise (standard deviation 2 per entry), under the PSD constra
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
 from projtrack import ellipsoids as E
 from projtrack.scenes import ellipses as S
-
-
-def best_of(fn, repeat=3):
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from _timing import best_of_result as best_of
 
 
 def main() -> None:

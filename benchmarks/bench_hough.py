@@ -13,23 +13,13 @@ Run: ``python benchmarks/bench_hough.py`` (best of a few repeats, < 60 s).
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
 from projtrack.hough import (TrackInitiator, detect_peaks, estimate_track, hough_transform,
                              hough_transform_image, rotate_integrate_hough)
 from projtrack.scenes.boost import BoostTrajectory, frame_times, in_view_launches, render_frames
-
-
-def best_of(fn, repeats=5, number=1):
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / number)
-    return best
+from _timing import best_of
 
 
 def bench_transform():
@@ -43,10 +33,10 @@ def bench_transform():
     img[pts[:, 1].astype(int), pts[:, 0].astype(int)] = True
     theta = np.deg2rad(np.arange(180.0))
     rows = [
-        ("skimage hough_line (1-px rho, 180 angles)", best_of(lambda: hough_line(img, theta=theta), number=20)),
-        ("ours, points, drho=2 (paper)", best_of(lambda: hough_transform(pts, frames.shape), number=20)),
-        ("ours, points, drho=1, corner origin", best_of(lambda: hough_transform(pts, frames.shape, 1.0, origin="corner"), number=20)),
-        ("ours, binary image, drho=2", best_of(lambda: hough_transform_image(img), number=20)),
+        ("skimage hough_line (1-px rho, 180 angles)", best_of(lambda: hough_line(img, theta=theta), repeats=5, number=20)),
+        ("ours, points, drho=2 (paper)", best_of(lambda: hough_transform(pts, frames.shape), repeats=5, number=20)),
+        ("ours, points, drho=1, corner origin", best_of(lambda: hough_transform(pts, frames.shape, 1.0, origin="corner"), repeats=5, number=20)),
+        ("ours, binary image, drho=2", best_of(lambda: hough_transform_image(img), repeats=5, number=20)),
         ("ours, rotate-and-integrate (Fig. 11)", best_of(lambda: rotate_integrate_hough(img), repeats=2)),
     ]
     base = rows[0][1]
@@ -91,9 +81,9 @@ def bench_scaling():
             for rho, th in lines:
                 estimate_track(comp, fr.shape, rho, th, frame_time=0.25, n_frames=21)
 
-        t_vote = best_of(lambda: init.hough(fr.points, fr.shape), number=5)
-        t_peak = best_of(lambda: detect_peaks(H, r, t, min_votes=6), number=5)
-        t_est = best_of(est_stage, number=2)
+        t_vote = best_of(lambda: init.hough(fr.points, fr.shape), repeats=5, number=5)
+        t_peak = best_of(lambda: detect_peaks(H, r, t, min_votes=6), repeats=5, number=5)
+        t_est = best_of(est_stage, repeats=5, number=2)
         print(f"{n:8d} {len(comp):7d} {1e3 * t_vote:10.2f} {1e3 * t_peak:11.2f} {1e3 * t_est:14.2f} "
               f"{1e3 * t_est / n:16.3f}")
     print("vote: Eq. (1) for every point of the composite (linear in points, the optical processor's is constant);")

@@ -8,20 +8,11 @@ sweep of a 10 x 10 x 10 net. Best of a few repeats; prints ratios.
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 
 from projtrack import neuralnet as nn
-
-
-def best(fn, repeat: int = 3) -> float:
-    t = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        t = min(t, time.perf_counter() - t0)
-    return t
+from _timing import best_of
 
 
 def main() -> None:
@@ -31,14 +22,14 @@ def main() -> None:
     for nt in (2, 4, 6, 8, 10):
         D = nn.distance_tensor(rng.uniform(-0.5, 0.5, (5, nt, 3)))
         X = rng.integers(0, 2, (nt, nt, 5)).astype(float)
-        t_loop = best(lambda: nn.energy_gradient_loops(X, D), 1 if nt >= 8 else 3)
-        t_vec = best(lambda: nn.energy_gradient(X, D), 20)
+        t_loop = best_of(lambda: nn.energy_gradient_loops(X, D), 1 if nt >= 8 else 3)
+        t_vec = best_of(lambda: nn.energy_gradient(X, D), 20)
         print(f"{nt:>4} {X.size:>8} {1e3 * t_loop:>11.2f} {1e3 * t_vec:>16.3f} {t_loop / t_vec:>8.0f}")
     D = nn.distance_tensor(rng.uniform(-0.5, 0.5, (10, 10, 3)))
     X0 = nn.initial_states(rng, 1, 10, 10, 10)
-    t_sweep = best(lambda: nn.run_net(D, X0, max_iter=1))
+    t_sweep = best_of(lambda: nn.run_net(D, X0, max_iter=1))
     X0b = nn.initial_states(rng, 1000, 10, 10, 10)
-    t_batch = best(lambda: nn.run_net(D, X0b, max_iter=1), 1)
+    t_batch = best_of(lambda: nn.run_net(D, X0b, max_iter=1), 1)
     print(f"one serial sweep, 10 targets x 10 measurements x 10 frames (1000 neurons): {1e3 * t_sweep:.1f} ms")
     print(f"the same sweep for a batch of 1000 nets: {1e3 * t_batch:.0f} ms "
           f"({t_sweep * 1000 / t_batch:.0f}x faster per net than one at a time)")

@@ -22,15 +22,7 @@ from threadpoolctl import threadpool_limits
 
 from projtrack.novelty import NoveltyFilter
 from projtrack.scenes.sequences import walking_sequence
-
-
-def best_of(fn, repeat: int = 3) -> float:
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+from _timing import best_of
 
 
 def frames(n: int, side: int, seed: int = 0) -> np.ndarray:
@@ -66,7 +58,7 @@ def main() -> None:
     print(f"{'frames seen':>12} {'K':>3} {'adaptive (ms)':>14} {'batch SVD (ms)':>15} {'IPCA (ms)':>10} "
           f"{'batch/adaptive':>15} {'IPCA/adaptive':>14}")
     for j in sorted(per_frame):
-        t_batch = best_of(lambda: np.linalg.svd(flat[:j], full_matrices=False), repeat=1 if j > 300 else 2)
+        t_batch = best_of(lambda: np.linalg.svd(flat[:j], full_matrices=False), repeats=1 if j > 300 else 2)
         a = per_frame[j]
         print(f"{j:>12} {ranks[j]:>3} {a * 1e3:>14.3f} {t_batch * 1e3:>15.2f} {t_ipca * 1e3:>10.3f} "
               f"{t_batch / a:>15.1f} {t_ipca / a:>14.2f}")
