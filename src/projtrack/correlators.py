@@ -77,17 +77,18 @@ _SNAP = 1e-9  # interpolation weights closer than this to 0 or 1 are snapped
 
 
 # --------------------------------------------------------------------------- validation
-def _as_image(x: object, name: str) -> np.ndarray:
+def _as_real_array(x: object, name: str, ndim: int, what: str) -> np.ndarray:
+    """A finite, non-empty float array of ``ndim`` dimensions, or a named error."""
     if isinstance(x, (str, bytes)) or x is None:
-        raise TypeError(f"{name} must be a 2-D numeric array, got {type(x).__name__}")
+        raise TypeError(f"{name} must be a {ndim}-D numeric array, got {type(x).__name__}")
     try:
         arr = np.asarray(x)
     except Exception as exc:  # pragma: no cover - exotic objects
-        raise TypeError(f"{name} must be a 2-D numeric array") from exc
+        raise TypeError(f"{name} must be a {ndim}-D numeric array") from exc
     if arr.dtype.kind not in "biuf":
         raise TypeError(f"{name} must be a real numeric array, got dtype {arr.dtype}")
-    if arr.ndim != 2:
-        raise ValueError(f"{name} must be a 2-D array (an image), got {arr.ndim} dimension(s)")
+    if arr.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array{what}, got {arr.ndim} dimension(s)")
     if arr.size == 0:
         raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
     arr = arr.astype(float)
@@ -96,20 +97,12 @@ def _as_image(x: object, name: str) -> np.ndarray:
     return arr
 
 
+def _as_image(x: object, name: str) -> np.ndarray:
+    return _as_real_array(x, name, 2, " (an image)")
+
+
 def _as_signal(x: object, name: str) -> np.ndarray:
-    if isinstance(x, (str, bytes)) or x is None:
-        raise TypeError(f"{name} must be a 1-D numeric array, got {type(x).__name__}")
-    arr = np.asarray(x)
-    if arr.dtype.kind not in "biuf":
-        raise TypeError(f"{name} must be a real numeric array, got dtype {arr.dtype}")
-    if arr.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D array, got {arr.ndim} dimension(s)")
-    if arr.size == 0:
-        raise ValueError(f"{name} must not be empty")
-    arr = arr.astype(float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains NaN or inf")
-    return arr
+    return _as_real_array(x, name, 1, "")
 
 
 def _as_stack(x: object, name: str) -> np.ndarray:
