@@ -5,7 +5,7 @@ import csv
 import pytest
 
 from projtrack.inventory import PARTS, inventory_ids, load_inventory
-from projtrack.scorecard import COLUMNS, VERDICTS, Scorecard, read_scorecards
+from projtrack.scorecard import COLUMNS, VERDICTS, Scorecard, id_verdict, read_scorecards, summary
 
 
 def test_inventory_has_67_unique_ids_with_known_prefixes():
@@ -16,7 +16,41 @@ def test_inventory_has_67_unique_ids_with_known_prefixes():
 
 
 def test_verdicts_are_exactly_the_conventions():
-    assert VERDICTS == ("reproduced", "within-tolerance", "qualitative", "differs", "not-reproducible")
+    assert VERDICTS == ("reproduced", "within-tolerance", "qualitative", "misprint", "differs",
+                        "not-reproducible", "beyond")
+
+
+@pytest.mark.parametrize("verdicts, expected", [
+    (["reproduced", "qualitative"], "qualitative"),
+    (["reproduced", "misprint"], "misprint"),
+    (["misprint", "differs"], "differs"),
+    (["reproduced", "beyond"], "reproduced"),   # beyond rows do not judge the id
+    (["beyond", "beyond"], "beyond"),
+    ([], ""),
+])
+def test_id_verdict_combines_sub_rows(verdicts, expected):
+    rows = [{"item": f"KVW-F6.s{i}", "verdict": v} for i, v in enumerate(verdicts)]
+    assert id_verdict("KVW-F6", rows) == expected
+
+
+def test_own_row_wins_over_sub_rows():
+    rows = [{"item": "KVW-F6", "verdict": "reproduced"}, {"item": "KVW-F6.x", "verdict": "differs"}]
+    assert id_verdict("KVW-F6", rows) == "reproduced"
+
+
+def test_summary_counts_beyond_rows_apart(tmp_path, monkeypatch):
+    monkeypatch.setenv("PROJTRACK_FIGURES_DIR", str(tmp_path))
+    card = _card()
+    card.add("JPDA-T1.a", "c", "p", "r", "reproduced")
+    card.add("JPDA-T1.b", "c", "p", "r", "beyond", "a baseline")
+    card.add("JPDA-T2", "c", "p", "r", "misprint", "Table VI gives 3, not 4")
+    card.save()
+    items, counts = summary(tmp_path)
+    t1 = items.set_index("id").loc["JPDA-T1"]
+    assert t1["verdict"] == "reproduced" and t1["rows"] == 2 and t1["beyond rows"] == 1
+    assert items.set_index("id").loc["JPDA-T2", "verdict"] == "misprint"
+    by = counts.set_index("verdict")["inventory ids"]
+    assert by["reproduced"] == 1 and by["misprint"] == 1 and by["not yet covered"] == 65
 
 
 def _card(nb="part3/x.ipynb", part="jpda"):
@@ -65,8 +99,9 @@ def test_bad_rows_are_rejected():
         card.add("XYZ-1", "c", "p", "r", "reproduced")
     with pytest.raises(ValueError, match="verdict must be one of"):
         card.add("JPDA-T1", "c", "p", "r", "matches")
-    with pytest.raises(ValueError, match="needs a note"):
-        card.add("JPDA-T1", "c", "p", "r", "differs")
+    for verdict in ("differs", "not-reproducible", "misprint", "beyond"):
+        with pytest.raises(ValueError, match="needs a note"):
+            card.add("JPDA-T1", "c", "p", "r", verdict)
     with pytest.raises(TypeError, match="claim"):
         card.add("JPDA-T1", None, "p", "r", "reproduced")
     with pytest.raises(ValueError, match="single line"):

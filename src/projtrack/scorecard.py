@@ -13,7 +13,19 @@ obtained and a verdict:
 ``differs``
     it does not reproduce; the note says how and the most likely reason;
 ``not-reproducible``
-    the paper gives too little to try; the note says what is missing.
+    the paper gives too little to try; the note says what is missing;
+``misprint``
+    the printed value contradicts the paper's own other numbers; the note gives the
+    proof (which numbers, which arithmetic). Not counted as a failure to reproduce;
+``beyond``
+    the row is not a claim of the paper (an extension, a baseline, a
+    self-consistency check, a sensitivity study). It carries no reproduction verdict
+    and is counted apart.
+
+An inventory id covered by several sub-rows takes its own row's verdict, or else the
+weakest verdict among its sub-rows that are not ``beyond`` (:data:`RANK`: ``misprint``
+counts as weaker than ``qualitative`` but stronger than ``differs``); an id whose rows
+are all ``beyond`` is ``beyond``.
 
 Several notebooks of one part (or chapter) share the file
 ``figures/<part>/scorecard.csv`` (columns ``item,claim,paper,reproduced,verdict,note``).
@@ -34,10 +46,21 @@ from pathlib import Path
 from projtrack._paths import figures_root
 from projtrack.inventory import inventory_ids
 
-__all__ = ["VERDICTS", "COLUMNS", "Row", "Scorecard", "read_scorecards", "summary"]
+__all__ = ["VERDICTS", "REPRODUCTION_VERDICTS", "RANK", "NOTE_REQUIRED", "COLUMNS", "Row", "Scorecard",
+           "read_scorecards", "id_verdict", "summary"]
 
-#: The allowed verdicts, in order of strength.
-VERDICTS: tuple[str, ...] = ("reproduced", "within-tolerance", "qualitative", "differs", "not-reproducible")
+#: The verdicts that judge a claim of the paper, from strongest to weakest.
+REPRODUCTION_VERDICTS: tuple[str, ...] = (
+    "reproduced", "within-tolerance", "qualitative", "misprint", "differs", "not-reproducible")
+
+#: The allowed verdicts: the reproduction verdicts, then ``beyond`` (not a claim of the paper).
+VERDICTS: tuple[str, ...] = (*REPRODUCTION_VERDICTS, "beyond")
+
+#: Strength order used to combine sub-rows (lower is stronger); ``beyond`` rows are left out.
+RANK: dict[str, int] = {v: i for i, v in enumerate(REPRODUCTION_VERDICTS)}
+
+#: Verdicts whose row must carry a note (the reason, the missing information, or the proof).
+NOTE_REQUIRED: tuple[str, ...] = ("differs", "not-reproducible", "misprint", "beyond")
 
 #: Columns of ``scorecard.csv``.
 COLUMNS: tuple[str, ...] = ("item", "claim", "paper", "reproduced", "verdict", "note")
@@ -128,8 +151,9 @@ class Scorecard:
         ------
         ValueError
             If the item is not an inventory id, is already in this scorecard, or the
-            verdict is not one of :data:`VERDICTS`; or if a ``differs`` or
-            ``not-reproducible`` row has no note.
+            verdict is not one of :data:`VERDICTS`; or if a row whose verdict is in
+            :data:`NOTE_REQUIRED` (``differs``, ``not-reproducible``, ``misprint``,
+            ``beyond``) has no note.
         """
         if not isinstance(item, str):
             raise TypeError(f"item must be a str, got {type(item).__name__}")
@@ -143,7 +167,7 @@ class Scorecard:
         if verdict not in VERDICTS:
             raise ValueError(f"verdict must be one of {', '.join(VERDICTS)}; got {verdict!r}")
         note_text = _text(note, "note")
-        if verdict in ("differs", "not-reproducible") and not note_text:
+        if verdict in NOTE_REQUIRED and not note_text:
             raise ValueError(f"a {verdict!r} verdict needs a note saying why")
         row = Row(item, _text(claim, "claim"), _text(paper, "paper"), _text(reproduced, "reproduced"),
                   verdict, note_text)
@@ -241,6 +265,32 @@ def read_scorecards(root: Path | None = None) -> list[dict[str, str]]:
     return out
 
 
+def id_verdict(item: str, rows: list[dict[str, str]]) -> str:
+    """Combine the scorecard rows of one inventory id into the id's verdict.
+
+    Parameters
+    ----------
+    item : str
+        The inventory id (``"PC-F3"``).
+    rows : list of dict
+        Its rows (each with ``item`` and ``verdict``), e.g. from :func:`read_scorecards`.
+
+    Returns
+    -------
+    str
+        The verdict of the id's own row if there is one; otherwise the weakest
+        (:data:`RANK`) verdict among the sub-rows that are not ``beyond``; ``"beyond"``
+        when every row is ``beyond``; ``""`` when there are no rows.
+    """
+    own = [r["verdict"] for r in rows if r["item"] == item]
+    if own:
+        return own[0]
+    judged = [r["verdict"] for r in rows if r["verdict"] != "beyond"]
+    if judged:
+        return max(judged, key=lambda v: RANK.get(v, len(RANK)))
+    return "beyond" if rows else ""
+
+
 def summary(root: Path | None = None):
     """Collect every scorecard against the inventory, for the Reproducibility summary page.
 
@@ -253,9 +303,9 @@ def summary(root: Path | None = None):
     -------
     items : pandas.DataFrame
         One row per inventory id, in inventory order, with columns ``id``, ``part``,
-        ``kind``, ``item`` (what it is), ``verdict`` (the id's own row, or the weakest
-        verdict among its sub-rows; empty if not covered), ``rows`` (how many scorecard
-        rows cover it) and ``notebook``.
+        ``kind``, ``item`` (what it is), ``verdict`` (:func:`id_verdict`; empty if not
+        covered), ``rows`` (how many scorecard rows cover it), ``beyond rows`` (how many
+        of them are ``beyond``) and ``notebook``.
     counts : pandas.DataFrame
         Number of inventory ids per verdict (plus ``not yet covered``).
     """
@@ -264,24 +314,18 @@ def summary(root: Path | None = None):
     from projtrack.inventory import PARTS, load_inventory
 
     rows = read_scorecards(root)
-    rank = {v: i for i, v in enumerate(VERDICTS)}
     by_id: dict[str, list[dict[str, str]]] = {}
     for r in rows:
         by_id.setdefault(r["item"].split(".", 1)[0], []).append(r)
     records = []
     for inv in load_inventory():
         hits = by_id.get(inv.id, [])
-        own = [h for h in hits if h["item"] == inv.id]
-        if own:
-            verdict = own[0]["verdict"]
-        elif hits:
-            verdict = max((h["verdict"] for h in hits), key=lambda v: rank.get(v, len(rank)))
-        else:
-            verdict = ""
+        verdict = id_verdict(inv.id, hits)
         notebooks = sorted({h["notebook"] for h in hits if h["notebook"]})
         records.append({
             "id": inv.id, "part": PARTS[inv.prefix][0], "kind": inv.kind, "item": inv.item,
-            "verdict": verdict, "rows": len(hits), "notebook": "; ".join(notebooks),
+            "verdict": verdict, "rows": len(hits),
+            "beyond rows": sum(h["verdict"] == "beyond" for h in hits), "notebook": "; ".join(notebooks),
         })
     items = pd.DataFrame.from_records(records)
     labels = [*VERDICTS, "not yet covered"]

@@ -1,0 +1,147 @@
+"""Numbers that print the same on every CPU and BLAS kernel.
+
+A value computed through BLAS, LAPACK or an iterative solver can differ in its last bits
+from one CPU (or OpenBLAS kernel: ``OPENBLAS_CORETYPE``) to another. Whatever the book
+prints, stores in a CSV or compares under nbval must therefore be rounded well above
+those bits, and must never show a negative zero (``-0.000``), which a sign flip in the
+last bit of a value that is zero up to rounding produces.
+
+:func:`tidy` rounds numbers (scalars, arrays, pandas objects) to a number of decimals or
+significant digits, sets values below an absolute tolerance to zero and removes negative
+zeros; :func:`fmt` formats one number with a format spec and never returns a negative
+zero. Use the solver's tolerance to choose ``atol`` and the printed precision: a value
+known to about ``1e-8`` is printed with at most 6 decimals.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import numpy as np
+
+__all__ = ["tidy", "fmt"]
+
+
+def _check(decimals: object, sig: object, atol: object) -> None:
+    if decimals is not None and sig is not None:
+        raise ValueError("give decimals or sig, not both")
+    for name, v in (("decimals", decimals), ("sig", sig)):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, numbers.Integral)):
+            raise TypeError(f"{name} must be an int or None, got {type(v).__name__}")
+    if sig is not None and sig < 1:
+        raise ValueError(f"sig must be at least 1, got {sig}")
+    if isinstance(atol, bool) or not isinstance(atol, numbers.Real) or not (atol >= 0) or math.isinf(atol):
+        raise ValueError(f"atol must be a finite number >= 0, got {atol!r}")
+
+
+def _round_array(a: np.ndarray, decimals: int | None, sig: int | None, atol: float) -> np.ndarray:
+    a = np.array(a, dtype=float)  # a copy
+    finite = np.isfinite(a)
+    if atol > 0:
+        a[finite & (np.abs(a) <= atol)] = 0.0
+    if decimals is not None:
+        a[finite] = np.round(a[finite], decimals)
+    elif sig is not None:
+        nz = finite & (a != 0)
+        exp = np.floor(np.log10(np.abs(a[nz])))
+        scale = 10.0 ** (sig - 1 - exp)
+        a[nz] = np.round(a[nz] * scale) / scale
+    return a + 0.0  # -0.0 + 0.0 == +0.0
+
+
+def tidy(x: Any, decimals: int | None = None, *, sig: int | None = None, atol: float = 0.0) -> Any:
+    """Round numbers so they do not depend on the last bits of floating point.
+
+    Parameters
+    ----------
+    x : float, int, array-like, pandas.Series or pandas.DataFrame
+        The numbers. Integers, booleans, strings and other non-float entries (and
+        non-float columns of a DataFrame) are returned unchanged.
+    decimals : int, optional
+        Round to this many decimals (negative rounds to tens, hundreds, ...).
+    sig : int, optional
+        Round to this many significant digits instead (not with ``decimals``).
+    atol : float, default 0
+        Values with ``abs(value) <= atol`` become exactly ``0.0`` (use the solver's or
+        iteration's tolerance).
+
+    Returns
+    -------
+    Same kind as ``x``
+        A float for a scalar, a float array for an array, a copy for pandas objects.
+        Negative zeros are always replaced by ``0.0``; NaN and infinities are kept.
+
+    Examples
+    --------
+    >>> tidy(-1e-17, 6)
+    0.0
+    >>> tidy([0.1234567, -2.5e-12], sig=3, atol=1e-9).tolist()
+    [0.123, 0.0]
+    """
+    _check(decimals, sig, atol)
+    try:
+        import pandas as pd
+    except ImportError:  # pragma: no cover - pandas is a dependency
+        pd = None
+    if pd is not None and isinstance(x, pd.DataFrame):
+        out = x.copy()
+        for col in out.columns:
+            if pd.api.types.is_float_dtype(out[col]):
+                out[col] = _round_array(out[col].to_numpy(), decimals, sig, atol)
+        return out
+    if pd is not None and isinstance(x, pd.Series):
+        if not pd.api.types.is_float_dtype(x):
+            return x.copy()
+        return pd.Series(_round_array(x.to_numpy(), decimals, sig, atol), index=x.index, name=x.name)
+    if isinstance(x, (bool, np.bool_, numbers.Integral, str)):
+        return x
+    if isinstance(x, numbers.Real):
+        return float(_round_array(np.array([float(x)]), decimals, sig, atol)[0])
+    a = np.asarray(x)
+    if a.dtype.kind in "iub":
+        return a.copy()
+    if a.dtype.kind != "f":
+        raise TypeError(f"x must hold real numbers, got an array of dtype {a.dtype}")
+    return _round_array(a, decimals, sig, atol)
+
+
+def fmt(x: Any, spec: str = ".6g", *, atol: float = 0.0) -> str:
+    """Format one number with ``format(x, spec)``, never giving a negative zero.
+
+    Parameters
+    ----------
+    x : real number
+        The value.
+    spec : str, default ``".6g"``
+        A format spec (``".3f"``, ``".2e"``, ``".1%"``, ``"+.4f"``, ...).
+    atol : float, default 0
+        Values with ``abs(x) <= atol`` are formatted as zero.
+
+    Returns
+    -------
+    str
+        The formatted value; a result that reads as zero carries no minus sign.
+
+    Examples
+    --------
+    >>> fmt(-1e-12, ".6f")
+    '0.000000'
+    >>> fmt(-0.25, ".1f")
+    '-0.2'
+    """
+    if isinstance(x, bool) or not isinstance(x, numbers.Real):
+        raise TypeError(f"x must be a real number, got {type(x).__name__}")
+    if not isinstance(spec, str):
+        raise TypeError(f"spec must be a str, got {type(spec).__name__}")
+    _check(None, None, atol)
+    v = float(x)
+    if atol > 0 and abs(v) <= atol:
+        v = 0.0
+    s = format(v + 0.0 if v == 0 else v, spec)
+    if s.lstrip().startswith("-") and "inf" not in s and "nan" not in s:
+        mantissa = s.split("e")[0].split("E")[0]
+        if not any(c in "123456789" for c in mantissa):
+            s = s.replace("-", "+" if "+" in spec else "", 1)
+    return s
