@@ -19,12 +19,15 @@ export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 export MKL_NUM_THREADS := 1
 
-.PHONY: help book test figures bench lock clean env unit nbval bookcheck html kl-data
+.PHONY: help book test figures bench lock clean env unit nbval nbval-second-kernel crosscheck bookcheck \
+	browsercheck browser-deps html kl-data
 
 help:
 	@echo "make book     create .venv from environment.lock, execute every notebook, build the HTML book"
-	@echo "make test     unit + property tests, nbval over every notebook, figure regression, strict book build"
+	@echo "make test     unit + property tests, nbval over every notebook (under two BLAS kernels),"
+	@echo "              figure regression, strict book build, the built book checked in headless Chromium"
 	@echo "make figures  execute every notebook in place (refreshes stored outputs and figures/)"
+	@echo "make crosscheck  nbval under every OpenBLAS kernel this CPU can run, each in its own process"
 	@echo "make bench    run the benchmarks in benchmarks/"
 	@echo "make lock     regenerate environment.lock from pyproject.toml"
 	@echo "make kl-data  re-create the KL chapter's committed video excerpt from Debian's opencv-doc"
@@ -56,13 +59,42 @@ book: figures
 
 unit: $(STAMP)
 	@echo "==> unit and property tests"
-	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py
+	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py \
+		--ignore=tests/browser
+
+NBVAL = $(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
+	--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \
+	--ignore=book/_build -v book tests/test_figure_regression.py
 
 nbval: $(STAMP)
-	@echo "==> nbval over every notebook, then figure regression against figures/"
-	$(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
-		--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \
-		--ignore=book/_build -v book tests/test_figure_regression.py
+	@echo "==> nbval over every notebook (OpenBLAS kernel: $$($(PY) tools/blas_kernels.py default)), then figure regression against figures/"
+	$(NBVAL)
+
+# The stored outputs must not depend on the last bits of one CPU's BLAS kernel: run nbval
+# once more under another OpenBLAS kernel this CPU supports (OPENBLAS_CORETYPE).
+nbval-second-kernel: $(STAMP)
+	@kernel=$$($(PY) tools/blas_kernels.py second); \
+	if [ -z "$$kernel" ]; then \
+		echo "==> no second OpenBLAS kernel to check on this machine ($$(uname -m)): skipped"; \
+	else \
+		echo "==> nbval again under OPENBLAS_CORETYPE=$$kernel (a second BLAS kernel)"; \
+		OPENBLAS_CORETYPE=$$kernel $(NBVAL); \
+	fi
+
+# nbval under every OpenBLAS kernel of tools/blas_kernels.py this CPU can run, each run in
+# its own process; run it before submitting a change to notebooks or numerics.
+crosscheck: $(STAMP)
+	@set -e; mkdir -p .cache; kernels="$$($(PY) tools/blas_kernels.py list)"; \
+	missing="$$($(PY) tools/blas_kernels.py missing)"; dups="$$($(PY) tools/blas_kernels.py duplicates)"; \
+	[ -z "$$missing" ] || echo "==> this CPU cannot run the OpenBLAS kernels: $$missing (not checked here)"; \
+	[ -z "$$dups" ] || echo "==> same kernel as one already checked, not run twice: $$dups"; \
+	[ -n "$$kernels" ] || { echo "==> no x86-64 kernel list here: nbval under the default kernel only"; $(NBVAL); exit 0; }; \
+	for k in $$kernels; do \
+		echo "==> nbval under OPENBLAS_CORETYPE=$$k"; \
+		OPENBLAS_CORETYPE=$$k $(NBVAL) > .cache/crosscheck-$$k.log 2>&1 \
+			&& echo "    $$k: $$(tail -n 1 .cache/crosscheck-$$k.log)" \
+			|| { tail -n 40 .cache/crosscheck-$$k.log; echo "==> FAILED under $$k (log: .cache/crosscheck-$$k.log)"; exit 1; }; \
+	done; echo "crosscheck passed under: $$kernels"
 
 bookcheck: $(STAMP)
 	@echo "==> strict book build (warnings and broken references are errors)"
@@ -70,10 +102,33 @@ bookcheck: $(STAMP)
 	$(VENV)/bin/jupyter-book build book -W -n --keep-going
 	@echo "strict book build passed"
 
+# Debian's chromium and its driver for the browser check. On CI (CI=true, as root, with
+# apt-get) they are installed when missing; elsewhere the check says how to install them.
+browser-deps:
+	@if command -v chromium >/dev/null && command -v chromedriver >/dev/null; then :; \
+	elif [ "$${CI:-}" = "true" ] && [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+		echo "==> installing Debian's chromium and chromium-driver for the browser check"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null; \
+	fi
+
+# The built book opened from disk with no network, in headless Chromium: math typeset,
+# images loaded, internal links resolve, no console errors, nothing fetched from the network.
+browsercheck: $(STAMP) browser-deps
+	@echo "==> the built book in a real browser (tests/browser)"
+	@if ! command -v chromium >/dev/null || ! command -v chromedriver >/dev/null; then \
+		echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
+		echo "!! Chromium is not installed: the browser checks are SKIPPED (static checks still run)."; \
+		echo "!! Install Debian's chromium and chromium-driver: apt-get install chromium chromium-driver"; \
+		echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
+	fi
+	$(PY) -m pytest -p no:cacheprovider -q -rs tests/browser
+
 test: $(STAMP)
 	@$(MAKE) --no-print-directory unit
 	@$(MAKE) --no-print-directory nbval
+	@$(MAKE) --no-print-directory nbval-second-kernel
 	@$(MAKE) --no-print-directory bookcheck
+	@$(MAKE) --no-print-directory browsercheck
 
 bench: $(STAMP)
 	@set -e; for f in benchmarks/bench_*.py; do echo "==> $$f"; $(PY) $$f; done
@@ -85,11 +140,11 @@ kl-data: $(STAMP)
 	$(PY) tools/fetch_plaza_video.py
 
 lock:
-	@echo "==> regenerating environment.lock (uv pip compile, Python 3.11, with hashes)"
+	@echo "==> regenerating environment.lock (uv pip compile --universal, Python 3.11, with hashes)"
 	$(PYTHON_BASE) -m venv .cache/lockenv
 	.cache/lockenv/bin/pip install --quiet uv 2> >(grep -v "is ignored" >&2)
 	.cache/lockenv/bin/uv pip compile pyproject.toml --all-extras --python-version 3.11 \
-		--python-platform x86_64-manylinux_2_28 --generate-hashes --no-header -o environment.lock
+		--universal --generate-hashes --no-header -o environment.lock
 
 clean:
 	rm -rf book/_build .cache .pytest_cache .hypothesis .benchmarks

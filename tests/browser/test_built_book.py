@@ -1,0 +1,221 @@
+"""The built HTML book, read as a reader would: offline, from disk, in a real browser.
+
+Run by ``make browsercheck`` (part of ``make test``) after the strict build, on
+``book/_build/html``. Two kinds of checks:
+
+* static, on the HTML files (no browser needed): no page refers to a network address for a
+  script, a style sheet, a font or an image, and every internal link and ``#anchor``
+  resolves to a built page and an element id in it;
+* in headless Chromium (Debian's ``chromium`` and ``chromium-driver``, driven by Selenium),
+  each page opened from ``file://`` with no network: equations typeset by MathJax (a
+  ``mjx-container`` for every math element, no raw ``\\(``, ``\\[`` or ``$$`` left in the
+  visible text outside code), every image loaded, no error in the console, and no request
+  for anything but local files.
+
+Without Chromium the browser checks are skipped with a message saying how to install it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import tempfile
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+HTML = Path(os.environ.get("PROJTRACK_BOOK_HTML", ROOT / "book" / "_build" / "html"))
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+INSTALL_HINT = ("install Debian's chromium and chromium-driver (apt-get install chromium chromium-driver) "
+                "to run the browser checks of the built book")
+
+# Pages Sphinx writes that are not pages of the book.
+_SKIP = {"genindex.html", "search.html", "py-modindex.html"}
+
+
+def _pages() -> list[Path]:
+    if not (HTML / "index.html").is_file():
+        return []
+    return sorted(p for p in HTML.rglob("*.html")
+                  if "_static" not in p.parts and "_sources" not in p.parts and p.name not in _SKIP)
+
+
+PAGES = _pages()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _built_book():
+    if not PAGES:
+        pytest.fail(f"no built book at {HTML}: run `make bookcheck` (or `make html`) first")
+
+
+class _Refs(HTMLParser):
+    """Collect element ids and every referenced URL (with the tag and attribute)."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.ids: set[str] = set()
+        self.refs: list[tuple[str, str, str, str]] = []  # (tag, attr, value, rel)
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if a.get("id"):
+            self.ids.add(a["id"])
+        if tag == "a" and a.get("name"):
+            self.ids.add(a["name"])
+        for attr in ("href", "src"):
+            if a.get(attr):
+                self.refs.append((tag, attr, a[attr], a.get("rel") or ""))
+
+
+_PARSED: dict[Path, _Refs] = {}
+
+
+def _parse(path: Path) -> _Refs:
+    if path not in _PARSED:
+        p = _Refs()
+        p.feed(path.read_text(encoding="utf-8"))
+        _PARSED[path] = p
+    return _PARSED[path]
+
+
+def _is_external(url: str) -> bool:
+    return urlsplit(url).scheme in ("http", "https") or url.startswith("//")
+
+
+_CSS_URL = re.compile(r"url\(\s*['\"]?(https?:)?//", re.I)
+_CSS_IMPORT = re.compile(r"@import\s+(url\()?\s*['\"]?(https?:)?//", re.I)
+
+
+def test_no_page_loads_anything_from_the_network():
+    problems = []
+    for page in PAGES:
+        for tag, attr, url, rel in _parse(page).refs:
+            loads = (tag in ("script", "img", "iframe", "source", "video", "audio", "embed")
+                     or (tag == "link" and rel not in ("canonical", "alternate")))
+            if loads and _is_external(url):
+                problems.append(f"{page.relative_to(HTML)}: <{tag} {attr}={url!r}>")
+    for css in HTML.rglob("*.css"):
+        text = css.read_text(encoding="utf-8", errors="replace")
+        if _CSS_URL.search(text) or _CSS_IMPORT.search(text):
+            problems.append(f"{css.relative_to(HTML)}: a style sheet loads a network address")
+    assert not problems, "pages refer to network addresses:\n" + "\n".join(problems[:20])
+
+
+def test_mathjax_is_served_from_the_book():
+    assert (HTML / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    with_math = [p for p in PAGES if 'class="math' in p.read_text(encoding="utf-8")]
+    assert with_math, "no page has math: the math check below would be empty"
+    for page in with_math:
+        srcs = [u for t, a, u, _ in _parse(page).refs if t == "script" and "mathjax" in u.lower()]
+        assert srcs and all(not _is_external(u) for u in srcs), f"{page.relative_to(HTML)}: MathJax {srcs}"
+
+
+def test_every_internal_link_and_anchor_resolves():
+    problems = []
+    for page in PAGES:
+        for tag, attr, url, _ in _parse(page).refs:
+            if tag != "a" or _is_external(url) or url.startswith(("mailto:", "javascript:", "data:")):
+                continue
+            parts = urlsplit(url)
+            target = page if not parts.path else (page.parent / unquote(parts.path)).resolve()
+            if target.is_dir():
+                target = target / "index.html"
+            if not target.exists():
+                problems.append(f"{page.relative_to(HTML)}: link {url!r} -> missing file")
+                continue
+            if parts.fragment and target.suffix == ".html":
+                if unquote(parts.fragment) not in _parse(target).ids:
+                    problems.append(f"{page.relative_to(HTML)}: link {url!r} -> no element #{parts.fragment}")
+    assert not problems, f"{len(problems)} broken internal links:\n" + "\n".join(problems[:30])
+
+
+# -- in a real browser -------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def browser():
+    if not (CHROMIUM and CHROMEDRIVER):
+        msg = f"CHROMIUM NOT FOUND: the browser checks of the built book were NOT run; {INSTALL_HINT}"
+        print("\n" + "!" * 80 + "\n" + msg + "\n" + "!" * 80)
+        pytest.skip(msg)
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    profile = tempfile.mkdtemp(prefix="projtrack-chromium-")
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                "--disable-dev-shm-usage", "--window-size=1280,900", f"--user-data-dir={profile}"):
+        opts.add_argument(arg)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL", "performance": "ALL"})
+    driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
+    driver.set_script_timeout(60)
+    driver.set_page_load_timeout(60)
+    yield driver
+    driver.quit()
+    shutil.rmtree(profile, ignore_errors=True)
+
+
+_WAIT_FOR_MATHJAX = """
+const done = arguments[arguments.length - 1];
+const settle = () => Promise.all(Array.from(document.images).map(img => img.complete ? null :
+    new Promise(r => { img.onload = img.onerror = r; })));
+if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
+  MathJax.startup.promise.then(settle).then(() => done('mathjax'), e => done('error: ' + e));
+} else { settle().then(() => done('no-mathjax')); }
+"""
+
+_PAGE_FACTS = """
+const body = document.body.cloneNode(true);
+body.querySelectorAll('pre, code, script, style, mjx-container, .highlight, textarea').forEach(e => e.remove());
+const text = body.textContent;
+return {
+  math: document.querySelectorAll('.math').length,
+  typeset: document.querySelectorAll('mjx-container').length,
+  mathErrors: document.querySelectorAll('mjx-merror, [data-mjx-error]').length,
+  raw: ['\\\\(', '\\\\[', '$$'].filter(s => text.includes(s)),
+  badImages: Array.from(document.images).filter(i => !(i.complete && i.naturalWidth > 0))
+                  .map(i => i.getAttribute('src')),
+};
+"""
+
+
+@pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(HTML).as_posix() for p in PAGES])
+def test_page_reads_offline_in_chromium(browser, page):
+    browser.get_log("browser"), browser.get_log("performance")  # drop earlier pages' logs
+    browser.get(page.as_uri())
+    state = browser.execute_async_script(_WAIT_FOR_MATHJAX)
+    facts = browser.execute_script(_PAGE_FACTS)
+    problems = []
+    if state.startswith("error"):
+        problems.append(f"MathJax failed: {state}")
+    if facts["math"] and state != "mathjax":
+        problems.append(f"{facts['math']} math elements but MathJax did not load")
+    if facts["typeset"] < facts["math"]:
+        problems.append(f"only {facts['typeset']} of {facts['math']} math elements typeset")
+    if facts["mathErrors"]:
+        problems.append(f"{facts['mathErrors']} MathJax errors")
+    if facts["raw"]:
+        problems.append(f"raw TeX delimiters in the visible text: {facts['raw']}")
+    if facts["badImages"]:
+        problems.append(f"images not loaded: {facts['badImages'][:5]}")
+    errors = [e["message"] for e in browser.get_log("browser") if e["level"] == "SEVERE"]
+    if errors:
+        problems.append(f"console errors: {errors[:3]}")
+    remote = []
+    for entry in browser.get_log("performance"):
+        msg = json.loads(entry["message"])["message"]
+        if msg.get("method") == "Network.requestWillBeSent":
+            url = msg["params"]["request"]["url"]
+            if _is_external(url) or url.startswith(("ws:", "wss:", "ftp:")):
+                remote.append(url)
+    if remote:
+        problems.append(f"network requests: {remote[:5]}")
+    assert not problems, f"{page.relative_to(HTML)}: " + "; ".join(problems)
