@@ -56,3 +56,51 @@ def test_env_default_n_jobs(monkeypatch):
 def test_bad_inputs(kwargs, exc, match):
     with pytest.raises(exc, match=match):
         montecarlo.run(**kwargs)
+
+
+def test_size_switch(monkeypatch):
+    monkeypatch.delenv("PROJTRACK_FULL", raising=False)
+    assert montecarlo.size(100, 1000) == 100
+    monkeypatch.setenv("PROJTRACK_FULL", "1")
+    assert montecarlo.size(100, 1000) == 1000
+    monkeypatch.setenv("PROJTRACK_FULL", "off")
+    assert montecarlo.size(100, 1000) == 100
+    monkeypatch.setenv("PROJTRACK_FULL", "maybe")
+    with pytest.raises(ValueError, match="PROJTRACK_FULL"):
+        montecarlo.size(100, 1000)
+
+
+@pytest.mark.parametrize("book,full,exc", [(0, 10, ValueError), (10, 5, ValueError), (1.5, 10, TypeError),
+                                           (True, 10, TypeError), (10, "20", TypeError)])
+def test_size_bad_inputs(book, full, exc, monkeypatch):
+    monkeypatch.delenv("PROJTRACK_FULL", raising=False)
+    with pytest.raises(exc):
+        montecarlo.size(book, full)
+
+
+def test_bad_scheduler():
+    with pytest.raises(TypeError, match="scheduler"):
+        montecarlo.run(_trial, 2, np.random.default_rng(0), scheduler=42)
+
+
+def test_dask_local_cluster_gives_the_serial_results():
+    """Two Dask workers (separate processes) reproduce the serial run trial for trial,
+    on one of the book's studies (the noise draws of a static ellipse reconstruction)."""
+    distributed = pytest.importorskip("dask.distributed")
+    from projtrack import ellipsoids
+    from projtrack.scenes import ellipses
+
+    def study(rng):
+        Ys, Cs = ellipses.static_observations(0.3, rng)[2:4]
+        return np.round(ellipsoids.reconstruct(Ys, Cs), 9).tolist()
+
+    serial = montecarlo.run(study, 8, np.random.default_rng(3), n_jobs=1)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        via_address = montecarlo.run(study, 8, np.random.default_rng(3), scheduler=cluster.scheduler_address)
+        with distributed.Client(cluster) as client:
+            via_client = montecarlo.run(study, 8, np.random.default_rng(3), scheduler=client)
+            workers = client.run(lambda: 1)
+    assert len(workers) == 2
+    assert via_address == serial and via_client == serial
+    assert len({str(r) for r in serial}) == 8
