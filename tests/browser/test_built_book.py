@@ -167,9 +167,19 @@ _WAIT_FOR_MATHJAX = """
 const done = arguments[arguments.length - 1];
 const settle = () => Promise.all(Array.from(document.images).map(img => img.complete ? null :
     new Promise(r => { img.onload = img.onerror = r; })));
-if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
-  MathJax.startup.promise.then(settle).then(() => done('mathjax'), e => done('error: ' + e));
-} else { settle().then(() => done('no-mathjax')); }
+// MathJax is loaded asynchronously: on a busy machine its script may not have run yet
+// when the page's load event fires, so wait (up to 30 s) for it to start.
+const wantsMath = !!document.querySelector('script[src*="mathjax" i]');
+const t0 = Date.now();
+(function poll() {
+  if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
+    MathJax.startup.promise.then(settle).then(() => done('mathjax'), e => done('error: ' + e));
+  } else if (wantsMath && Date.now() - t0 < 30000) {
+    setTimeout(poll, 50);
+  } else {
+    settle().then(() => done(wantsMath ? 'mathjax did not start within 30 s' : 'no-mathjax'));
+  }
+})();
 """
 
 _PAGE_FACTS = """
@@ -190,14 +200,21 @@ return {
 @pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(HTML).as_posix() for p in PAGES])
 def test_page_reads_offline_in_chromium(browser, page):
     browser.get_log("browser"), browser.get_log("performance")  # drop earlier pages' logs
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    browser.execute_script("window.__projtrackPreviousPage = true;")
     browser.get(page.as_uri())
+    # make sure the scripts below run in the new page, fully loaded, not in the previous one
+    # (the marker set above exists only in the previous page's window object)
+    WebDriverWait(browser, 60).until(lambda d: d.execute_script(
+        "return document.readyState === 'complete' && !window.__projtrackPreviousPage;"))
     state = browser.execute_async_script(_WAIT_FOR_MATHJAX)
     facts = browser.execute_script(_PAGE_FACTS)
     problems = []
     if state.startswith("error"):
         problems.append(f"MathJax failed: {state}")
     if facts["math"] and state != "mathjax":
-        problems.append(f"{facts['math']} math elements but MathJax did not load")
+        problems.append(f"{facts['math']} math elements but MathJax did not load ({state})")
     if facts["typeset"] < facts["math"]:
         problems.append(f"only {facts['typeset']} of {facts['math']} math elements typeset")
     if facts["mathErrors"]:
