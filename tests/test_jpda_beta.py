@@ -353,3 +353,87 @@ def test_counters_and_sizes_name_the_bad_argument():
         with pytest.raises(ValueError, match="m must be <= 30"):
             f(31, 2)
     assert jpda.vector_size(0, 1) == 1  # no measurement: only the empty word
+
+
+# --- the forward-backward sweep: fast path against the plain reference ----------------
+
+
+def _sweep_inputs(seed, n_it, n, density=0.6):
+    rng = np.random.default_rng(seed)
+    W = rng.uniform(0.05, 1.0, (n_it, n)) * (rng.random((n_it, n)) < density)
+    return W, rng.uniform(0.05, 1.0, n_it), rng.uniform(0.05, 1.0, n)
+
+
+def _brute_sweep(W, u, v):
+    """Oracle for the sweep: enumerate every partial matching of items to slots."""
+    n_it, n = W.shape
+    Z, gW, gu, un = 0.0, np.zeros_like(W), np.zeros(n_it), np.zeros(n)
+    for a in itertools.product(range(-1, n), repeat=n_it):
+        used = [k for k in a if k >= 0]
+        if len(used) != len(set(used)) or any(k >= 0 and W[i, k] == 0 for i, k in enumerate(a)):
+            continue
+        p = np.prod([u[i] if k < 0 else W[i, k] for i, k in enumerate(a)])
+        p *= np.prod([v[k] for k in range(n) if k not in used])
+        Z += p
+        for i, k in enumerate(a):
+            if k < 0:
+                gu[i] += p
+            else:
+                gW[i, k] += p
+        for k in range(n):
+            if k not in used:
+                un[k] += p
+    return Z, gW, gu, un
+
+
+@pytest.mark.parametrize("n_it,n", [(0, 0), (3, 0), (0, 3), (1, 1), (3, 4), (5, 3), (4, 5)])
+def test_reference_sweep_equals_brute_force(n_it, n):
+    W, u, v = _sweep_inputs(n_it * 7 + n, n_it, n)
+    for got, want in zip(jpda._fb_sweep_reference(W, u, v), _brute_sweep(W, u, v)):
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-300)
+
+
+PATHS = {
+    "default": {},
+    "dense low bits only": {"_LOW_BITS": 30},
+    "sparse high bits": {"_LOW_BITS": 2},
+    "strided high bits": {"_LOW_BITS": 2, "_SPARSE_MAX_HIGH_BITS": 0},
+    "threaded backward": {"_LOW_BITS": 3, "_THREAD_MIN_BITS": 1},
+}
+
+
+@pytest.mark.parametrize("path", list(PATHS))
+@pytest.mark.parametrize("n_it,n,seed", [(1, 1, 0), (4, 3, 1), (7, 6, 2), (9, 9, 3), (6, 10, 4)])
+def test_fast_sweep_equals_reference_on_every_path(monkeypatch, path, n_it, n, seed):
+    for name, value in PATHS[path].items():
+        monkeypatch.setattr(jpda, name, value)
+    W, u, v = _sweep_inputs(seed, n_it, n)
+    ops_fast, ops_ref = jpda.OpCount(), jpda.OpCount()
+    fast = jpda._fb_sweep(W, u, v, ops_fast)
+    ref = jpda._fb_sweep_reference(W, u, v, ops_ref)
+    for got, want in zip(fast, ref):
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-300)
+    assert (ops_fast.additions, ops_fast.multiplications) == (ops_ref.additions, ops_ref.multiplications)
+
+
+@settings(max_examples=60, deadline=None)
+@given(mvms())
+def test_beta_forward_backward_reference_flag(w):
+    np.testing.assert_allclose(jpda.beta_forward_backward(w, reference=True),
+                               jpda.beta_enumerated(w), atol=1e-12)
+    np.testing.assert_allclose(jpda.beta_forward_backward(w, reference=True),
+                               jpda.beta_forward_backward(w), atol=1e-13)
+
+
+def test_beta_forward_backward_reference_must_be_bool():
+    with pytest.raises(TypeError, match="reference must be a bool"):
+        jpda.beta_forward_backward(np.array([[0.5], [1.0]]), reference="yes")
+
+
+@pytest.mark.parametrize("mT", [(1, 1), (3, 3), (4, 6), (7, 7), (5, 2)])
+def test_conventional_op_count_closed_forms(mT):
+    m, T = mT
+    c = jpda.conventional_op_count(m, T)
+    N = jpda.count_feasible_events
+    assert c.multiplications == N(m, T) * (T - 1)
+    assert c.additions == m * T * (N(m - 1, T - 1) - 1)

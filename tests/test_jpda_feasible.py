@@ -63,3 +63,22 @@ def test_enumerator_rejects_bad_validation_matrices():
         list(iter_feasibility_matrices(np.full((2, 2), 2)))
     with pytest.raises(ValueError, match="clutter column"):
         list(iter_feasibility_matrices(np.array([[0, 1], [1, 1]])))
+
+
+def test_colexicographic_order_places_the_papers_cases_1_and_5():
+    v = np.array([[1, 1, 0], [1, 1, 1], [1, 0, 1]])
+    case1 = np.array([[1, 0, 0]] * 3)
+    case5 = np.array([[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    colex = list(iter_feasibility_matrices(v, order="colexicographic"))
+    lex = list(iter_feasibility_matrices(v))
+    assert np.array_equal(colex[0], case1) and np.array_equal(colex[4], case5)
+    assert not np.array_equal(lex[4], case5)  # the default order differs
+    assert sorted(m_.tobytes() for m_ in colex) == sorted(m_.tobytes() for m_ in lex)
+    # measurement 1's target changes fastest
+    first_rows = [int(np.argmax(m_[0])) for m_ in colex[:2]]
+    assert first_rows == [0, 1]
+
+
+def test_enumerator_rejects_unknown_order():
+    with pytest.raises(ValueError, match="order must be"):
+        list(iter_feasibility_matrices(np.ones((2, 2), dtype=int), order="random"))

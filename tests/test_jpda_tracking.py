@@ -202,3 +202,60 @@ def test_tracking_trial_is_reproducible():
     b = scene.tracking_trial(np.random.default_rng(1), n_steps=8)
     assert a == b
     assert set(a) == {"jpda", "gnn"}
+
+
+def test_fig2_order_is_passed_through_from_the_mvm():
+    w = np.array([[0.1, 0.2], [0.5, 0.0], [0.3, 0.6], [0.0, 0.4]])
+    case5 = np.array([[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    assert np.array_equal(jpda.feasibility_matrices(w, order="colexicographic")[4], case5)
+    with pytest.raises(ValueError, match="order must be"):
+        jpda.feasibility_matrices(w, order="by probability")
+
+
+def test_paper_mvm_is_clutter_density_one_in_the_units_of_the_likelihoods():
+    # coordinates s times finer: densities shrink by s^d, i.e. lambda = s^d in the old units
+    rng = np.random.default_rng(11)
+    zp = rng.uniform(-2, 2, (3, 2))
+    z = zp[[0, 1, 2, 0]] + rng.normal(0, 0.5, (4, 2))
+    S = np.repeat(np.eye(2)[None] * 0.6, 3, axis=0)
+    s = 10.0
+    fine = jpda.beta(jpda.modified_validation_matrix(s * z, s * zp, s**2 * S, 0.85))
+    old = jpda.beta(jpda.modified_validation_matrix(z, zp, S, 0.85, clutter_density=s**2))
+    np.testing.assert_allclose(fine, old, atol=1e-13)
+    paper = jpda.beta(jpda.modified_validation_matrix(z, zp, S, 0.85))
+    assert np.abs(paper - old).max() > 1e-3  # the density does change beta
+
+
+def test_false_measurement_rule_equals_mvm_for_a_common_p_detect():
+    # Sec. II.C weighs each false measurement by 1 - P_D; the MVM each undetected target
+    rng = np.random.default_rng(5)
+    p = 0.8
+    for m, T in ((4, 2), (2, 4), (3, 3)):
+        w = rng.uniform(0.05, 1.0, (m + 1, T)) * (rng.random((m + 1, T)) < 0.8)
+        w[0] = 1 - p
+        lit = np.zeros_like(w)
+        for om in jpda.feasibility_matrices(w):
+            t_of_j = om[:, 1:].argmax(axis=1) * om[:, 1:].any(axis=1) + om[:, 1:].any(axis=1)
+            weight = np.prod([w[j + 1, t_of_j[j] - 1] if t_of_j[j] else 1 - p for j in range(m)])
+            for t in range(T):
+                rows = np.flatnonzero(t_of_j == t + 1)
+                lit[rows[0] + 1 if rows.size else 0, t] += weight
+        np.testing.assert_allclose(lit / lit.sum(axis=0), jpda.beta(w), atol=1e-13)
+
+
+def test_beta_from_matrix_permanents():
+    import itertools
+
+    def per(M):
+        r, c = M.shape
+        return sum(np.prod(M[np.arange(r), list(cols)]) for cols in itertools.permutations(range(c), r))
+
+    rng = np.random.default_rng(2)
+    for m, T in ((3, 2), (2, 3), (3, 3)):
+        w = scene.random_mvm(rng, m, T)
+        M = np.hstack([w[1:] / w[0][None, :], np.eye(m)])
+        b = jpda.beta(w)
+        for j in range(m):
+            for t in range(T):
+                minor = np.delete(np.delete(M, j, axis=0), t, axis=1)
+                assert b[j + 1, t] == pytest.approx(M[j, t] * per(minor) / per(M), abs=1e-13)

@@ -116,7 +116,8 @@ def count_feasible_events(m: int, T: int) -> int:
     )
 
 
-def iter_feasibility_matrices(validation: np.ndarray) -> Iterator[np.ndarray]:
+def iter_feasibility_matrices(validation: np.ndarray,
+                              order: str = "lexicographic") -> Iterator[np.ndarray]:
     """Enumerate the feasibility matrices of a validation matrix (Sec. II.B).
 
     Parameters
@@ -124,14 +125,29 @@ def iter_feasibility_matrices(validation: np.ndarray) -> Iterator[np.ndarray]:
     validation : array_like of 0/1, shape (m, T + 1)
         Binary validation matrix; column 0 (clutter) must be all ones, column ``t``
         marks the measurements inside target ``t``'s gate.
+    order : {"lexicographic", "colexicographic"}
+        Order of the matrices, as an odometer over the target chosen for each
+        measurement (target 0 first). ``"lexicographic"`` (default): measurement 1's
+        target changes slowest, measurement ``m``'s fastest. ``"colexicographic"``:
+        measurement 1's target changes fastest, measurement ``m``'s slowest; for
+        the validation matrix of Fig. 1 this puts the paper's case 1 (nothing
+        detected) first and its case 5 (events ``chi_11, chi_22, chi_30``) fifth, as
+        in Fig. 2.
 
     Yields
     ------
     numpy.ndarray of int8, shape (m, T + 1)
         Each feasibility matrix: one 1 per row, at most one 1 in each column
-        ``t >= 1``. Order: lexicographic in the target chosen for measurement 1, then
-        measurement 2, and so on (target 0 first).
+        ``t >= 1``.
+
+    Raises
+    ------
+    ValueError
+        If ``validation`` is not a 2-D 0/1 array with an all-ones column 0, or
+        ``order`` is not one of the two names.
     """
+    if order not in ("lexicographic", "colexicographic"):
+        raise ValueError(f"order must be 'lexicographic' or 'colexicographic', got {order!r}")
     v = np.asarray(validation)
     if v.ndim != 2 or v.shape[1] < 1:
         raise ValueError(f"validation must be a 2-D (m, T + 1) array, got shape {v.shape}")
@@ -142,18 +158,21 @@ def iter_feasibility_matrices(validation: np.ndarray) -> Iterator[np.ndarray]:
     m, n_cols = v.shape
     choices = [np.flatnonzero(v[j]).tolist() for j in range(m)]
     assign = [0] * m
+    # rows from the slowest-changing to the fastest-changing digit of the odometer
+    rows = list(range(m)) if order == "lexicographic" else list(range(m - 1, -1, -1))
 
-    def rec(j: int, used: set[int]) -> Iterator[np.ndarray]:
-        if j == m:
+    def rec(depth: int, used: set[int]) -> Iterator[np.ndarray]:
+        if depth == m:
             out = np.zeros((m, n_cols), dtype=np.int8)
             out[np.arange(m), assign] = 1
             yield out
             return
+        j = rows[depth]
         for t in choices[j]:
             if t and t in used:
                 continue
             assign[j] = t
-            yield from rec(j + 1, used | {t} if t else used)
+            yield from rec(depth + 1, used | {t} if t else used)
 
     yield from rec(0, set())
 
@@ -440,9 +459,12 @@ def beta_enumerated(mvm: object, *, ops: OpCount | None = None) -> np.ndarray:
     return out / Z
 
 
-def feasibility_matrices(mvm: object) -> list[np.ndarray]:
-    """The feasibility matrices ``Omega_i`` of an MVM's validation matrix (Fig. 2)."""
-    return list(iter_feasibility_matrices(mvm_to_validation(mvm)))
+def feasibility_matrices(mvm: object, order: str = "lexicographic") -> list[np.ndarray]:
+    """The feasibility matrices ``Omega_i`` of an MVM's validation matrix (Fig. 2).
+
+    ``order`` is passed to :func:`iter_feasibility_matrices`.
+    """
+    return list(iter_feasibility_matrices(mvm_to_validation(mvm), order=order))
 
 
 # --------------------------------------------------------------------------------------
@@ -702,12 +724,37 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
 
 
 def conventional_op_count(m: int, T: int) -> OpCount:
-    """Operation count of the conventional method for an all-ones validation matrix.
+    """Operation count of the conventional method for an all-ones validation matrix (Table IV).
 
-    Closed form of what :func:`beta_enumerated` counts: ``N (T - 1)``
-    multiplications for the ``N`` events of eq. (1), and ``sum_{j,t} (n_jt - 1)``
-    additions where ``n_jt = sum_k C(m-1, k-1) C(T-1, k-1) (k-1)!`` events... computed
-    here exactly as ``(sum over events of detections) - m T``.
+    Closed form of what :func:`beta_enumerated` counts on an all-ones MVM:
+
+    * multiplications: ``N (T - 1)``, where ``N`` is the number of feasible events
+      of eq. (1) (:func:`count_feasible_events`) and each event's probability is
+      the product of ``T`` MVM entries, one per target;
+    * additions: ``sum_{j >= 1, t} (n_jt - 1)``, where ``n_jt`` is the number of
+      events that contain the pairing ``chi_jt`` (``beta_jt`` sums their ``n_jt``
+      probabilities). Summed over ``j`` and ``t``, ``n_jt`` counts every detection
+      of every event, ``D = sum_{k >= 1} k C(m, k) C(T, k) k!`` (``k`` detections:
+      choose ``k`` measurements, ``k`` targets and a matching), so the additions are
+      ``D - m T``. For an all-ones matrix every ``n_jt`` equals the eq. (1) count of
+      the remaining ``m - 1`` measurements and ``T - 1`` targets, i.e. the
+      additions are ``m T (N(m - 1, T - 1) - 1)``.
+
+    Neither the final normalization nor eq. (2) is counted (see :class:`OpCount`).
+
+    Parameters
+    ----------
+    m, T : int
+        Numbers of measurements and targets, ``>= 0``.
+
+    Returns
+    -------
+    OpCount
+
+    Examples
+    --------
+    >>> str(conventional_op_count(7, 7))  # Table IV, m = T = 7
+    '652974/785532'
     """
     m = _check_count(m, "m")
     T = _check_count(T, "T")
@@ -760,13 +807,90 @@ def _low_matrix(u: float, w: np.ndarray, n_low: int) -> np.ndarray:
     return M
 
 
+def _fb_sweep_reference(W: np.ndarray, u: np.ndarray, v: np.ndarray,
+                        ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """Reference implementation of :func:`_fb_sweep`: the recursions written out plainly.
+
+    Items ``i = 0..n_it-1`` (rows of ``W``) are either unmatched (weight ``u[i]``) or
+    matched to a distinct slot ``k`` (weight ``W[i, k]``); a slot left unmatched
+    weighs ``v[k]``. ``Z`` is the sum, over all such partial matchings, of the
+    product of their weights (for JPDA: the sum of the probabilities of all
+    feasible events). States ``S`` are subsets of the ``n`` slots, coded as bit
+    words (the paper's MU words when the slots are measurements).
+
+    * Forward: ``F_0 = [S == {}]`` and
+      ``F_{i+1}[S] = u_i F_i[S] + sum_{k in S} W[i, k] F_i[S - {k}]``
+      (items ``< i + 1`` use exactly the slots ``S``).
+    * ``V[S] = prod_{k not in S} v_k`` and ``Z = sum_S F_{n_it}[S] V[S]``.
+    * Backward: ``G_{n_it} = V`` and
+      ``G_i[S] = u_i G_{i+1}[S] + sum_{k not in S} W[i, k] G_{i+1}[S + {k}]``
+      (completions of items ``>= i`` given the slots ``S`` already used: the
+      paper's target vectors of Sec. III.C are these messages).
+    * Gradients: ``u_i dZ/du_i = u_i sum_S F_i[S] G_{i+1}[S]`` and
+      ``W[i, k] dZ/dW[i, k] = W[i, k] sum_{S not containing k} F_i[S] G_{i+1}[S + {k}]``,
+      the total weight of the matchings in which item ``i`` is unmatched, or
+      matched to slot ``k``; ``unmatched[k] = sum_{S not containing k} F_{n_it}[S] V[S]``
+      is the weight of those in which slot ``k`` stays unmatched.
+
+    Returns ``(Z, W * dZ/dW, u * dZ/du, unmatched)``. Cost ``O(n_it n 2^n)``; the
+    operation count (``ops``) is the one :func:`_fb_sweep` records for the same
+    recursions. :func:`_fb_sweep` computes the same numbers with blocked and sparse
+    products and is tested against this function on every one of its code paths.
+    """
+    n_it, n = W.shape
+    N = 1 << n
+    S = np.arange(N)
+    has = [((S >> k) & 1) == 1 for k in range(n)]  # has[k][S]: slot k is in S
+    F = np.zeros((n_it + 1, N))
+    F[0, 0] = 1.0
+    n_mul = n_add = 0
+    for i in range(n_it):
+        F[i + 1] = u[i] * F[i]
+        n_mul += N
+        for k in range(n):
+            if W[i, k]:
+                with_k = S[has[k]]
+                F[i + 1, with_k] += W[i, k] * F[i, with_k ^ (1 << k)]
+                n_mul += N >> 1
+                n_add += N >> 1
+    V = np.ones(N)
+    for k in range(n):
+        V[~has[k]] *= v[k]
+    FV = F[n_it] * V
+    Z = float(FV.sum())
+    unmatched = np.array([FV[~has[k]].sum() for k in range(n)])
+    gW = np.zeros_like(W, dtype=float)
+    gu = np.zeros(n_it)
+    G = V
+    for i in range(n_it - 1, -1, -1):
+        gu[i] = u[i] * float(F[i] @ G)
+        Gn = u[i] * G
+        n_mul += 2 * N
+        n_add += N
+        for k in range(n):
+            if W[i, k]:
+                without_k = S[~has[k]]
+                gW[i, k] = W[i, k] * float(F[i, without_k] @ G[without_k | (1 << k)])
+                Gn[without_k] += W[i, k] * G[without_k | (1 << k)]
+                n_mul += 2 * (N >> 1)
+                n_add += 2 * (N >> 1)
+        G = Gn
+    if ops is not None:
+        ops.add(n_add=n_add, n_mul=n_mul)
+    return Z, gW, gu, unmatched
+
+
 def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
-             ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+             ops: OpCount | None = None,
+             reference: bool = False) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_fb_sweep` with BLAS limited to one thread for large state spaces.
 
     The small dense products of the sweep gain nothing from BLAS threads, and idle
     BLAS threads spin-wait, which costs several times the work on a busy machine.
+    With ``reference=True`` the plain :func:`_fb_sweep_reference` runs instead.
     """
+    if reference:
+        return _fb_sweep_reference(W, u, v, ops)
     if W.shape[1] < 12:
         return _fb_sweep(W, u, v, ops)
     from threadpoolctl import threadpool_limits  # a dependency of scikit-learn
@@ -779,14 +903,19 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
               ops: OpCount | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
     """Sum over partial matchings and its gradient (the engine of :func:`beta_forward_backward`).
 
+    The same recursions, inputs and outputs as :func:`_fb_sweep_reference` (read that
+    one first: it states them plainly); this is its fast form, tested against it on
+    every code path (dense low bits only, sparse high bits, strided high bits, the
+    threaded backward sweep) in ``tests/test_jpda_beta.py``.
+
     Items ``i`` (rows of ``W``, processed one by one) are either unmatched (weight
     ``u_i``) or matched to a distinct slot ``k`` (weight ``W[i, k]``); unmatched slots
     weigh ``v_k``. Returns ``Z``, ``W * dZ/dW``, ``u * dZ/du`` and the vector
     ``P(slot k unmatched) * Z``. States are subsets of slots (``2^n`` of them).
-    Forward ``F_i[S]`` (slots used exactly ``S`` by items ``<= i``) and backward
-    ``G_i[S]`` (sum over the completions of items ``> i`` avoiding ``S``, the
+    Forward ``F_i[S]`` (slots used exactly ``S`` by items ``< i``) and backward
+    ``G_{i+1}[S]`` (sum over the completions of items ``> i`` avoiding ``S``, the
     paper's target vectors) give the gradient as inner products
-    ``dZ/dW[i, k] = sum_{S not containing k} F_{i-1}[S] G_i[S + k]``.
+    ``dZ/dW[i, k] = sum_{S not containing k} F_i[S] G_{i+1}[S + k]``.
     The lowest ``_LOW_BITS`` bits of every item are applied as one small dense
     matrix product (BLAS) on a ``(2^n / 32, 32)`` view, the others as one sparse
     product on its rows (or as strided vector updates when there are too many rows).
@@ -893,7 +1022,8 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
     return Z, gW, gu, un
 
 
-def beta_forward_backward(mvm: object, *, ops: OpCount | None = None) -> np.ndarray:
+def beta_forward_backward(mvm: object, *, ops: OpCount | None = None,
+                          reference: bool = False) -> np.ndarray:
     """Exact beta by a forward-backward pass over subsets of ``min(m, T)`` (one cluster).
 
     The paper's target vectors (Sec. III.C) are the backward messages of a dynamic
@@ -904,7 +1034,20 @@ def beta_forward_backward(mvm: object, *, ops: OpCount | None = None) -> np.ndar
     roles swap (measurements are processed one by one and the state is the set of
     targets used), so the cost is ``O(max(m, T) min(m, T) 2^min(m, T))`` time and
     ``O(max(m, T) 2^min(m, T))`` memory.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix, eqs. (3)-(4).
+    ops : OpCount, optional
+        Counts the additions and multiplications of the sweep.
+    reference : bool
+        Run the plain reference sweep (``_fb_sweep_reference``, the recursions as
+        written in its docstring) instead of the blocked fast one; the two agree to
+        rounding. For auditing and tests.
     """
+    if not isinstance(reference, (bool, np.bool_)):
+        raise TypeError(f"reference must be a bool, got {type(reference).__name__}")
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1
@@ -916,14 +1059,14 @@ def beta_forward_backward(mvm: object, *, ops: OpCount | None = None) -> np.ndar
     out = np.zeros((m1, T))
     if T <= m:
         # items = measurements (unmatched weight 1), slots = targets (unmatched weight a0_t)
-        Z, gW, gu, un = _fb_core(wn[1:], np.ones(m), wn[0], ops)
+        Z, gW, gu, un = _fb_core(wn[1:], np.ones(m), wn[0], ops, reference)
         if not Z > 0:
             _fail_no_event(w)
         out[1:] = gW / Z
         out[0] = un / Z
     else:
         # items = targets (unmatched weight a0_t), slots = measurements (weight 1)
-        Z, gW, gu, un = _fb_core(wn[1:].T.copy(), wn[0], np.ones(m), ops)
+        Z, gW, gu, un = _fb_core(wn[1:].T.copy(), wn[0], np.ones(m), ops, reference)
         if not Z > 0:
             _fail_no_event(w)
         out[1:] = gW.T / Z
