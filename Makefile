@@ -123,10 +123,12 @@ browsercheck: $(STAMP) browser-deps
 	fi
 	$(PY) -m pytest -p no:cacheprovider -q -rs tests/browser
 
+# The two nbval runs are independent (each kernel uses one BLAS thread, each run writes
+# its figures to its own temporary folder), so they run side by side on two cores; their
+# logs are printed one after the other.
 test: $(STAMP)
 	@$(MAKE) --no-print-directory unit
-	@$(MAKE) --no-print-directory nbval
-	@$(MAKE) --no-print-directory nbval-second-kernel
+	@$(MAKE) --no-print-directory -j2 --output-sync=target nbval nbval-second-kernel
 	@$(MAKE) --no-print-directory bookcheck
 	@$(MAKE) --no-print-directory browsercheck
 
