@@ -145,3 +145,27 @@ def test_fit_slotcar_tracks():
     assert isinstance(sensor, dma.ActivePixelSensor) and sensor.c > 1
     est = model.predict(ex.active_pixels(test.frames, 0.15), sensor)
     assert np.linalg.norm(est - test.positions, axis=1).mean() < 3.0
+
+
+def test_sphere_chains_and_trial_outputs():
+    rng = np.random.default_rng(3)
+    det = ex.make_sphere_example(rng, n_points=600, n_regions=6, n_prototypes=8, chain="nearest-other", noise_std=0.05)
+    assert (np.diff(det.transitions.indptr) == 1).all() and (det.transitions.diagonal() == 0).all()
+    out = ex.sphere_trials(det, 12, 10, np.random.default_rng(4), methods=("viterbi",))
+    assert out["viterbi"].shape == out["frame_ml"].shape == out["chance"].shape == (12, 10)
+    assert out["path"].shape == out["viterbi_path"].shape == out["y"].shape == (12, 10)
+    assert ((out["viterbi_path"] == out["path"]) == out["viterbi"]).all()
+    # deterministic chain, small noise: Viterbi right after the start in (almost) every run,
+    # the estimators without the motion model are not
+    assert out["viterbi"][:, 2:].mean() > 0.95
+    assert out["frame_ml"][:, 2:].mean() < out["viterbi"][:, 2:].mean() - 0.2
+    assert out["chance"].mean() < 0.3
+    # the same results whatever the number of worker processes
+    again = ex.sphere_trials(det, 12, 10, np.random.default_rng(4), methods=("viterbi",))
+    assert (again["path"] == out["path"]).all()
+    with pytest.raises(ValueError, match="chain"):
+        ex.make_sphere_example(rng, n_points=300, n_regions=2, n_prototypes=4, chain="three")
+    with pytest.raises(ValueError, match="methods"):
+        ex.sphere_trials(det, 2, 5, np.random.default_rng(0), methods=("kalman",))
+    with pytest.raises(ValueError, match="n_trials"):
+        ex.sphere_trials(det, 0, 5, np.random.default_rng(0))

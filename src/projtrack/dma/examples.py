@@ -55,6 +55,13 @@ __all__ = [
 #: Observation row of Example 1.
 H_SPHERE = np.array([[1.0, -1.0, 1.0]])
 
+#: Constructions of the Example 1 chain: name -> (successors per centroid, exclude the centroid itself).
+SPHERE_CHAINS: dict[str, tuple[int, bool]] = {
+    "two-nearest": (2, False),
+    "two-others": (2, True),
+    "nearest-other": (1, True),
+}
+
 
 def _positive(value: object, name: str) -> float:
     """``value`` as a float, or ValueError naming ``name`` unless finite and > 0."""
@@ -119,25 +126,64 @@ def make_sphere_example(
     n_prototypes: int = 8,
     dt: float = 0.3,
     noise_std: float = 0.1,
+    chain: str = "two-nearest",
 ) -> SphereExample:
     """Example 1: learn centroids on the sphere (Sec. 3.1) and the chain of a velocity field.
 
     ``n_points`` uniform points on the unit sphere are split into ``n_regions`` regions
     with 2-D local planes and ``n_prototypes`` k-means centroids each (then pushed
     radially onto the sphere). Transitions follow :func:`projtrack.scenes.manifolds.sphere_velocity`
-    with time step ``dt``, to the two centroids nearest the predicted point
-    (:func:`projtrack.dma.transitions_from_velocity_field`); the start is uniform.
-    ``noise_std`` is the standard deviation of ``v`` (the paper does not give it); it and
-    ``dt`` must be > 0 (ValueError otherwise).
+    with time step ``dt`` (:func:`projtrack.dma.transitions_from_velocity_field`); the
+    paper does not say how, and ``chain`` chooses the construction:
+
+    ``"two-nearest"``
+        the two centroids nearest the predicted point, weighted by a Gaussian as wide
+        as the centroid spacing (the centroid itself may be one of them: a self-loop);
+    ``"two-others"``
+        the same without the centroid itself (the point always moves);
+    ``"nearest-other"``
+        a deterministic chain: each centroid goes to the other centroid nearest the
+        predicted point (one arrow per centroid).
+
+    The start is uniform. ``noise_std`` is the standard deviation of ``v`` (the paper
+    does not give it); it and ``dt`` must be > 0 (ValueError otherwise); an unknown
+    ``chain`` is a ValueError.
     """
     noise_std = _positive(noise_std, "noise_std")
     dt = _positive(dt, "dt")
+    if chain not in SPHERE_CHAINS:
+        raise ValueError(f"chain must be one of {', '.join(SPHERE_CHAINS)}; got {chain!r}")
+    n_next, exclude_self = SPHERE_CHAINS[chain]
     X = mf.sphere_points(n_points, rng)
     man = learn_manifold(X, n_regions, n_prototypes, rng, dim=2)
     C = mf.project_to_sphere(man.prototypes)
-    A = transitions_from_velocity_field(C, mf.sphere_velocity, dt, n_next=2, project=mf.project_to_sphere)
+    A = transitions_from_velocity_field(C, mf.sphere_velocity, dt, n_next=n_next, project=mf.project_to_sphere,
+                                        exclude_self=exclude_self)
     S = len(C)
     return SphereExample(man, C, A, np.full(S, 1.0 / S), float(noise_std), float(dt))
+
+
+def _sphere_trial(rng: np.random.Generator, ex: SphereExample, n_steps: int, methods: tuple[str, ...],
+                  with_kalman: bool) -> dict[str, np.ndarray]:
+    """One trial of :func:`sphere_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
+    sensor = ex.sensor()
+    ls, lt = np.log(ex.start), log_transitions(ex.transitions)
+    path, y = ex.simulate(n_steps, rng)
+    le = sensor.log_likelihoods(y)
+    dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
+    out = {k: dec[k] == path for k in methods}
+    out.update(path=path, y=y[:, 0], viterbi_path=dec["viterbi"])
+    ml = np.argmax(le, axis=1)  # per-instant maximum likelihood over the centroids, no motion model
+    out["frame_ml"] = ml == path
+    out["frame_ml_err"] = np.linalg.norm(ex.centroids[ml] - ex.centroids[path], axis=1)
+    out["viterbi_err"] = np.linalg.norm(ex.centroids[dec["viterbi"]] - ex.centroids[path], axis=1)
+    out["chance"] = rng.integers(0, ex.n_states, n_steps) == path
+    if with_kalman:
+        xk = kalman_sphere(y, ex.noise_std, q=ex.dt)
+        nearest = np.argmin(((xk[:, None, :] - ex.centroids[None]) ** 2).sum(-1), axis=1)
+        out["kalman"] = nearest == path
+        out["kalman_err"] = np.linalg.norm(xk - ex.centroids[path], axis=1)
+    return out
 
 
 def sphere_trials(
@@ -149,27 +195,36 @@ def sphere_trials(
     methods: tuple[str, ...] = ("viterbi", "smooth", "filter"),
     with_kalman: bool = False,
 ) -> dict[str, np.ndarray]:
-    """Monte Carlo of Example 1: ``(n_trials, n_steps)`` boolean arrays "right centroid"
-    for each of ``methods`` (Viterbi, smoothing, filtering), plus the Kalman baseline's
-    nearest-centroid hits and distance errors if ``with_kalman``."""
-    sensor = ex.sensor()
-    ls, lt = np.log(ex.start), log_transitions(ex.transitions)
-    out: dict[str, list] = {m: [] for m in methods}
-    if with_kalman:
-        out.update({"kalman": [], "kalman_err": [], "viterbi_err": []})
-    for _ in range(n_trials):
-        path, y = ex.simulate(n_steps, rng)
-        le = sensor.log_likelihoods(y)
-        dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
-        for k in methods:
-            out[k].append(dec[k] == path)
-        if with_kalman:
-            xk = kalman_sphere(y, ex.noise_std, q=ex.dt)
-            nearest = np.argmin(((xk[:, None, :] - ex.centroids[None]) ** 2).sum(-1), axis=1)
-            out["kalman"].append(nearest == path)
-            out["kalman_err"].append(np.linalg.norm(xk - ex.centroids[path], axis=1))
-            out["viterbi_err"].append(np.linalg.norm(ex.centroids[dec["viterbi"]] - ex.centroids[path], axis=1))
-    return {k: np.array(v) for k, v in out.items()}
+    """Monte Carlo of Example 1 through :func:`projtrack.montecarlo.run`.
+
+    Each trial draws a state path of ``n_steps`` from the chain and its observations and
+    decodes them. Returns ``(n_trials, n_steps)`` arrays:
+
+    * for each of ``methods`` (``"viterbi"``, ``"smooth"``, ``"filter"``), booleans
+      "right centroid";
+    * ``"frame_ml"``: the same for the per-instant maximum-likelihood centroid (the
+      manifold without the motion model) and ``"chance"`` for a uniformly drawn
+      centroid (the no-data estimate);
+    * ``"viterbi_err"``, ``"frame_ml_err"``: distances to the true centroid;
+    * ``"path"``, ``"viterbi_path"`` (ints) and ``"y"`` (observations), to show a draw;
+    * with ``with_kalman``, the Kalman baseline's nearest-centroid hits (``"kalman"``)
+      and distance errors (``"kalman_err"``).
+
+    ``n_trials`` and ``n_steps`` must be positive ints; ``methods`` a non-empty subset of
+    the three decoders (ValueError otherwise). Trial ``i`` uses the ``i``-th child of
+    ``rng``, so results do not depend on the number of worker processes.
+    """
+    from projtrack.montecarlo import run
+
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
+        raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
+    if isinstance(n_trials, bool) or not isinstance(n_trials, (int, np.integer)) or n_trials < 1:
+        raise ValueError(f"n_trials must be a positive int, got {n_trials!r}")
+    methods = tuple(methods)
+    if not methods or set(methods) - {"viterbi", "smooth", "filter"}:
+        raise ValueError(f"methods must be a non-empty subset of ('viterbi', 'smooth', 'filter'), got {methods!r}")
+    trials = run(_sphere_trial, int(n_trials), rng, ex, int(n_steps), methods, bool(with_kalman))
+    return {k: np.array([t[k] for t in trials]) for k in trials[0]}
 
 
 def kalman_sphere(y: np.ndarray, noise_std: float, *, q: float = 0.3, smooth: bool = True) -> np.ndarray:
