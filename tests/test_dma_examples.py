@@ -169,3 +169,25 @@ def test_sphere_chains_and_trial_outputs():
         ex.sphere_trials(det, 2, 5, np.random.default_rng(0), methods=("kalman",))
     with pytest.raises(ValueError, match="n_trials"):
         ex.sphere_trials(det, 0, 5, np.random.default_rng(0))
+
+
+def test_lost_drives():
+    e = np.array([[1.0] * 10, [60.0] * 2 + [1.0] * 8, [60.0] * 1 + [1.0] * 9])
+    assert ex.lost_drives(e).tolist() == [False, True, False]
+    assert ex.lost_drives(e, fraction=0.0).tolist() == [False, True, True]
+    assert ex.lost_drives(e, distance=100.0).tolist() == [False, False, False]
+    for bad in (np.zeros(3), np.array([[np.nan]]), -np.ones((2, 2))):
+        with pytest.raises(ValueError, match="errors"):
+            ex.lost_drives(bad)
+    with pytest.raises(ValueError, match="fraction"):
+        ex.lost_drives(e, fraction=1.0)
+    with pytest.raises(ValueError, match="distance"):
+        ex.lost_drives(e, distance=0.0)
+
+
+def test_road_trials_bad_sizes():
+    road = ex.make_road_example(np.random.default_rng(0), n_train=2, train_steps=50)
+    with pytest.raises(ValueError, match="n_steps"):
+        ex.road_trials(road, 1, 1, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="n_trials"):
+        ex.road_trials(road, 0, 10, np.random.default_rng(0))

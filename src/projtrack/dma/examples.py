@@ -47,6 +47,7 @@ __all__ = [
     "RoadExample",
     "make_road_example",
     "road_trials",
+    "lost_drives",
     "ekf_range",
     "active_pixels",
     "fit_slotcar",
@@ -336,24 +337,56 @@ def make_road_example(
     return RoadExample(scene, states, points, A, np.full(S, 1.0 / S), receiver, float(omega), float(noise_var))
 
 
-def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False) -> dict[str, np.ndarray]:
-    """Monte Carlo of Example 2: position errors (m), ``(n_trials, n_steps)``, per method."""
+def _road_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, with_ekf: bool) -> dict[str, np.ndarray]:
+    """One drive of :func:`road_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
     sensor = ex.sensor()
     ls, lt = np.log(ex.start), log_transitions(ex.transitions)
-    out: dict[str, list] = {"viterbi": [], "smooth": [], "filter": []}
+    x = ex.scene.drive(n_steps, rng)
+    y = ex.observe(x, rng)
+    dec = decode_all(ls, lt, sensor.log_likelihoods(y))
+    out = {k: np.linalg.norm(ex.points[v] - x, axis=1) for k, v in dec.items()}
     if with_ekf:
-        out["ekf"] = []
-    for _ in range(n_trials):
-        x = ex.scene.drive(n_steps, rng)
-        y = ex.observe(x, rng)
-        dec = decode_all(ls, lt, sensor.log_likelihoods(y))
-        for k, v in dec.items():
-            out[k].append(np.linalg.norm(ex.points[v] - x, axis=1))
-        if with_ekf:
-            est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]),
-                            height=float(ex.receiver[2] - x[:, 2].mean()))
-            out["ekf"].append(np.linalg.norm(est - x[:, :2], axis=1))
-    return {k: np.array(v) for k, v in out.items()}
+        est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]),
+                        height=float(ex.receiver[2] - x[:, 2].mean()))
+        out["ekf"] = np.linalg.norm(est - x[:, :2], axis=1)
+    return out
+
+
+def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False) -> dict[str, np.ndarray]:
+    """Monte Carlo of Example 2 through :func:`projtrack.montecarlo.run`.
+
+    Each trial is a new drive of ``n_steps`` seconds and its observations (eq. (14)),
+    decoded by Viterbi, smoothing and filtering (and the road-ignoring EKF if
+    ``with_ekf``). Returns position errors in m, ``(n_trials, n_steps)``, per method.
+    ``n_trials`` and ``n_steps`` (>= 2) must be positive ints (ValueError otherwise).
+    """
+    from projtrack.montecarlo import run
+
+    if isinstance(n_trials, bool) or not isinstance(n_trials, (int, np.integer)) or n_trials < 1:
+        raise ValueError(f"n_trials must be a positive int, got {n_trials!r}")
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
+        raise ValueError(f"n_steps must be an int >= 2, got {n_steps!r}")
+    trials = run(_road_trial, int(n_trials), rng, ex, int(n_steps), bool(with_ekf))
+    return {k: np.array([t[k] for t in trials]) for k in trials[0]}
+
+
+def lost_drives(errors: np.ndarray, *, distance: float = 50.0, fraction: float = 0.1) -> np.ndarray:
+    """Which drives lock onto a wrong road: more than ``fraction`` of their instants
+    farther than ``distance`` (m) from the truth.
+
+    ``errors`` is an ``(n_drives, n_steps)`` array of position errors (as returned by
+    :func:`road_trials`); returns an ``(n_drives,)`` boolean array. ``distance`` must be
+    > 0 and ``fraction`` in [0, 1) (ValueError otherwise).
+    """
+    e = np.asarray(errors, dtype=float)
+    if e.ndim != 2 or e.size == 0:
+        raise ValueError(f"errors must be a non-empty (n_drives, n_steps) array, got shape {e.shape}")
+    if not np.isfinite(e).all() or (e < 0).any():
+        raise ValueError("errors must be finite and >= 0")
+    distance = _positive(distance, "distance")
+    if not (0 <= fraction < 1):
+        raise ValueError(f"fraction must be in [0, 1), got {fraction!r}")
+    return (e > distance).mean(axis=1) > fraction
 
 
 def ekf_range(
