@@ -191,3 +191,35 @@ def test_road_trials_bad_sizes():
         ex.road_trials(road, 1, 1, np.random.default_rng(0))
     with pytest.raises(ValueError, match="n_trials"):
         ex.road_trials(road, 0, 10, np.random.default_rng(0))
+
+
+def test_training_background_is_the_empty_scene():
+    train = [make_slotcar_video(120, np.random.default_rng(s), noise=0.0) for s in (1, 2)]
+    bg = ex.training_background(train)
+    # the car moves, so the median of the training frames is the noise-free empty scene
+    assert np.abs(bg - train[0].background).max() < 1e-6
+    with pytest.raises(ValueError, match="train_videos"):
+        ex.training_background([])
+    with pytest.raises(ValueError, match="frame"):
+        ex.training_background([train[0], make_slotcar_video(5, np.random.default_rng(0), shape=(32, 32))])
+
+
+def test_slotcar_harder_conditions():
+    easy = make_slotcar_video(30, np.random.default_rng(5))
+    again = make_slotcar_video(30, np.random.default_rng(5), illumination=0.0, car_peak=0.95, clutter=0.0)
+    assert np.array_equal(easy.frames, again.frames)  # the defaults are the easy video
+    dim = make_slotcar_video(30, np.random.default_rng(5), car_peak=0.5, noise=0.0)
+    bright = make_slotcar_video(30, np.random.default_rng(5), noise=0.0)
+    r, c = np.round(bright.positions[~bright.occluded][0]).astype(int)
+    i = int(np.flatnonzero(~bright.occluded)[0])
+    assert dim.frames[i, r, c] < bright.frames[i, r, c] - 0.2
+    lit = make_slotcar_video(240, np.random.default_rng(6), illumination=0.2, noise=0.0)
+    level = lit.frames.reshape(240, -1).mean(axis=1)
+    assert level.max() / level.min() > 1.3  # the illumination drifts
+    clut = make_slotcar_video(50, np.random.default_rng(7), clutter=3.0, noise=0.0)
+    base = make_slotcar_video(50, np.random.default_rng(7), noise=0.0)
+    assert (np.abs(clut.frames - clut.background) > 0.15).sum() > (np.abs(base.frames - base.background) > 0.15).sum()
+    for kw, name in ((dict(illumination=1.0), "illumination"), (dict(car_peak=0.0), "car_peak"),
+                     (dict(clutter=-1.0), "clutter"), (dict(car_peak=1.5), "car_peak")):
+        with pytest.raises(ValueError, match=name):
+            make_slotcar_video(5, np.random.default_rng(0), **kw)
