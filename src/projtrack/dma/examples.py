@@ -9,8 +9,11 @@
 * Example 3 (Fig. 9): slot-car video tracking with the active-pixel sensor of
   eq. (15) (:func:`active_pixels`, :func:`fit_slotcar`).
 
-The paper leaves open the observation noise of Example 1, the road map and receiver of
-Example 2 and the video of Example 3; the choices are documented per function.
+The paper leaves open the observation noise and the construction of the chain of
+Example 1 (:data:`SPHERE_CHAINS`), the road map, receiver, state and noise reading of
+Example 2 and the video of Example 3; the choices are documented per function. Every
+Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`) runs through
+:func:`projtrack.montecarlo.run`.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ from projtrack.scenes import manifolds as mf
 from projtrack.scenes.roads import DirectedStates, RoadScene, make_road_scene
 
 __all__ = [
+    "H_SPHERE",
+    "SPHERE_CHAINS",
     "SphereExample",
     "make_sphere_example",
     "decode_all",
