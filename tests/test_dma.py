@@ -522,3 +522,27 @@ def test_slotcar_video_bad_inputs():
     v = make_slotcar_video(2, np.random.default_rng(0), noise=0.0)
     far = np.linalg.norm(np.indices(v.background.shape).reshape(2, -1).T - v.positions[0], axis=1) > 6
     assert np.allclose(v.frames[0].ravel()[far], v.background.ravel()[far], atol=1e-6)
+
+
+def test_velocity_field_chain_exclude_self():
+    rng = np.random.default_rng(1)
+    P = mf.sphere_points(150, rng)
+    # deterministic chain: one successor per state, never the state itself
+    A = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.05, n_next=1, project=mf.project_to_sphere,
+                                            exclude_self=True)
+    assert (np.diff(A.indptr) == 1).all() and np.allclose(A.data, 1.0)
+    assert (A.diagonal() == 0).all()
+    # the successor is the nearest other point to the predicted point (brute force)
+    pred = mf.project_to_sphere(P + 0.05 * mf.sphere_velocity(P))
+    d = np.linalg.norm(pred[:, None] - P[None], axis=2)
+    np.fill_diagonal(d, np.inf)
+    assert (A.indices == d.argmin(axis=1)).all()
+    # with a short step most states would keep a self-loop without exclude_self
+    B = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.05, n_next=2, project=mf.project_to_sphere)
+    assert (B.diagonal() > 0).mean() > 0.5
+    C2 = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.05, n_next=2, exclude_self=True)
+    assert (C2.diagonal() == 0).all() and (np.diff(C2.indptr) == 2).all()
+    with pytest.raises(TypeError, match="exclude_self"):
+        dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.1, exclude_self="yes")
+    with pytest.raises(ValueError, match="n_next"):
+        dma.transitions_from_velocity_field(P[:2], mf.sphere_velocity, 0.1, n_next=2, exclude_self=True)

@@ -145,3 +145,81 @@ def test_fit_slotcar_tracks():
     assert isinstance(sensor, dma.ActivePixelSensor) and sensor.c > 1
     est = model.predict(ex.active_pixels(test.frames, 0.15), sensor)
     assert np.linalg.norm(est - test.positions, axis=1).mean() < 3.0
+
+
+def test_sphere_chains_and_trial_outputs():
+    rng = np.random.default_rng(3)
+    det = ex.make_sphere_example(rng, n_points=600, n_regions=6, n_prototypes=8, chain="nearest-other", noise_std=0.05)
+    assert (np.diff(det.transitions.indptr) == 1).all() and (det.transitions.diagonal() == 0).all()
+    out = ex.sphere_trials(det, 12, 10, np.random.default_rng(4), methods=("viterbi",))
+    assert out["viterbi"].shape == out["frame_ml"].shape == out["chance"].shape == (12, 10)
+    assert out["path"].shape == out["viterbi_path"].shape == out["y"].shape == (12, 10)
+    assert ((out["viterbi_path"] == out["path"]) == out["viterbi"]).all()
+    # deterministic chain, small noise: Viterbi right after the start in (almost) every run,
+    # the estimators without the motion model are not
+    assert out["viterbi"][:, 2:].mean() > 0.95
+    assert out["frame_ml"][:, 2:].mean() < out["viterbi"][:, 2:].mean() - 0.2
+    assert out["chance"].mean() < 0.3
+    # the same results whatever the number of worker processes
+    again = ex.sphere_trials(det, 12, 10, np.random.default_rng(4), methods=("viterbi",))
+    assert (again["path"] == out["path"]).all()
+    with pytest.raises(ValueError, match="chain"):
+        ex.make_sphere_example(rng, n_points=300, n_regions=2, n_prototypes=4, chain="three")
+    with pytest.raises(ValueError, match="methods"):
+        ex.sphere_trials(det, 2, 5, np.random.default_rng(0), methods=("kalman",))
+    with pytest.raises(ValueError, match="n_trials"):
+        ex.sphere_trials(det, 0, 5, np.random.default_rng(0))
+
+
+def test_lost_drives():
+    e = np.array([[1.0] * 10, [60.0] * 2 + [1.0] * 8, [60.0] * 1 + [1.0] * 9])
+    assert ex.lost_drives(e).tolist() == [False, True, False]
+    assert ex.lost_drives(e, fraction=0.0).tolist() == [False, True, True]
+    assert ex.lost_drives(e, distance=100.0).tolist() == [False, False, False]
+    for bad in (np.zeros(3), np.array([[np.nan]]), -np.ones((2, 2))):
+        with pytest.raises(ValueError, match="errors"):
+            ex.lost_drives(bad)
+    with pytest.raises(ValueError, match="fraction"):
+        ex.lost_drives(e, fraction=1.0)
+    with pytest.raises(ValueError, match="distance"):
+        ex.lost_drives(e, distance=0.0)
+
+
+def test_road_trials_bad_sizes():
+    road = ex.make_road_example(np.random.default_rng(0), n_train=2, train_steps=50)
+    with pytest.raises(ValueError, match="n_steps"):
+        ex.road_trials(road, 1, 1, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="n_trials"):
+        ex.road_trials(road, 0, 10, np.random.default_rng(0))
+
+
+def test_training_background_is_the_empty_scene():
+    train = [make_slotcar_video(120, np.random.default_rng(s), noise=0.0) for s in (1, 2)]
+    bg = ex.training_background(train)
+    # the car moves, so the median of the training frames is the noise-free empty scene
+    assert np.abs(bg - train[0].background).max() < 1e-6
+    with pytest.raises(ValueError, match="train_videos"):
+        ex.training_background([])
+    with pytest.raises(ValueError, match="frame"):
+        ex.training_background([train[0], make_slotcar_video(5, np.random.default_rng(0), shape=(32, 32))])
+
+
+def test_slotcar_harder_conditions():
+    easy = make_slotcar_video(30, np.random.default_rng(5))
+    again = make_slotcar_video(30, np.random.default_rng(5), illumination=0.0, car_peak=0.95, clutter=0.0)
+    assert np.array_equal(easy.frames, again.frames)  # the defaults are the easy video
+    dim = make_slotcar_video(30, np.random.default_rng(5), car_peak=0.5, noise=0.0)
+    bright = make_slotcar_video(30, np.random.default_rng(5), noise=0.0)
+    r, c = np.round(bright.positions[~bright.occluded][0]).astype(int)
+    i = int(np.flatnonzero(~bright.occluded)[0])
+    assert dim.frames[i, r, c] < bright.frames[i, r, c] - 0.2
+    lit = make_slotcar_video(240, np.random.default_rng(6), illumination=0.2, noise=0.0)
+    level = lit.frames.reshape(240, -1).mean(axis=1)
+    assert level.max() / level.min() > 1.3  # the illumination drifts
+    clut = make_slotcar_video(50, np.random.default_rng(7), clutter=3.0, noise=0.0)
+    base = make_slotcar_video(50, np.random.default_rng(7), noise=0.0)
+    assert (np.abs(clut.frames - clut.background) > 0.15).sum() > (np.abs(base.frames - base.background) > 0.15).sum()
+    for kw, name in ((dict(illumination=1.0), "illumination"), (dict(car_peak=0.0), "car_peak"),
+                     (dict(clutter=-1.0), "clutter"), (dict(car_peak=1.5), "car_peak")):
+        with pytest.raises(ValueError, match=name):
+            make_slotcar_video(5, np.random.default_rng(0), **kw)

@@ -816,6 +816,7 @@ def transitions_from_velocity_field(
     *,
     n_next: int = 2,
     project: object | None = None,
+    exclude_self: bool = False,
 ) -> sp.csr_array:
     """Markov chain on prototypes from a known velocity field (Example 1, Fig. 6a).
 
@@ -825,6 +826,11 @@ def transitions_from_velocity_field(
     of two consecutive states" as in Fig. 3), with probabilities proportional to
     ``exp(-d^2 / (2 s^2))``, ``d`` the distance to ``p_l`` and ``s`` the median
     nearest-neighbour spacing of the prototypes.
+
+    With ``exclude_self`` the prototype ``u_l`` itself is never a successor (no
+    self-loops: the point always moves). ``n_next = 1, exclude_self = True`` gives the
+    *deterministic* chain "each centroid to the nearest other centroid along the field"
+    (one arrow per centroid).
 
     Parameters
     ----------
@@ -838,6 +844,8 @@ def transitions_from_velocity_field(
         Number of successors per state.
     project : callable, optional
         ``project(points) -> points`` applied to the predicted points.
+    exclude_self : bool, default False
+        Leave each prototype out of its own successors.
 
     Returns
     -------
@@ -849,8 +857,10 @@ def transitions_from_velocity_field(
     P = _as_float_array(points, "points", 2)
     S = len(P)
     k = _check_int(n_next, "n_next")
-    if k > S:
-        raise ValueError(f"n_next must be <= the number of points ({S})")
+    if not isinstance(exclude_self, (bool, np.bool_)):
+        raise TypeError(f"exclude_self must be a bool, got {type(exclude_self).__name__}")
+    if k > S - int(exclude_self):
+        raise ValueError(f"n_next must be <= the number of candidate successors ({S - int(exclude_self)})")
     if not callable(velocity):
         raise TypeError("velocity must be callable: velocity(points) -> array of the same shape")
     if not (np.isfinite(dt) and dt > 0):
@@ -863,8 +873,16 @@ def transitions_from_velocity_field(
         pred = np.asarray(project(pred), dtype=float)
     tree = cKDTree(P)
     spacing = float(np.median(tree.query(P, k=2)[0][:, 1]))
-    d, idx = tree.query(pred, k=k)
-    d, idx = d.reshape(S, k), idx.reshape(S, k)
+    if exclude_self:
+        d, idx = tree.query(pred, k=k + 1)
+        d, idx = d.reshape(S, k + 1), idx.reshape(S, k + 1)
+        keep = idx != np.arange(S)[:, None]
+        # drop the point itself if it is among the k + 1 nearest, else the farthest one
+        keep[keep.all(axis=1), -1] = False
+        d, idx = d[keep].reshape(S, k), idx[keep].reshape(S, k)
+    else:
+        d, idx = tree.query(pred, k=k)
+        d, idx = d.reshape(S, k), idx.reshape(S, k)
     w = np.exp(-0.5 * (d / spacing) ** 2)
     w = np.where(w.sum(axis=1, keepdims=True) > 0, w, 1.0)
     w = w / w.sum(axis=1, keepdims=True)

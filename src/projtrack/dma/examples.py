@@ -9,8 +9,11 @@
 * Example 3 (Fig. 9): slot-car video tracking with the active-pixel sensor of
   eq. (15) (:func:`active_pixels`, :func:`fit_slotcar`).
 
-The paper leaves open the observation noise of Example 1, the road map and receiver of
-Example 2 and the video of Example 3; the choices are documented per function.
+The paper leaves open the observation noise and the construction of the chain of
+Example 1 (:data:`SPHERE_CHAINS`), the road map, receiver, state and noise reading of
+Example 2 and the video of Example 3; the choices are documented per function. Every
+Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`) runs through
+:func:`projtrack.montecarlo.run`.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ from projtrack.scenes import manifolds as mf
 from projtrack.scenes.roads import DirectedStates, RoadScene, make_road_scene
 
 __all__ = [
+    "H_SPHERE",
+    "SPHERE_CHAINS",
     "SphereExample",
     "make_sphere_example",
     "decode_all",
@@ -47,13 +52,22 @@ __all__ = [
     "RoadExample",
     "make_road_example",
     "road_trials",
+    "lost_drives",
     "ekf_range",
     "active_pixels",
     "fit_slotcar",
+    "training_background",
 ]
 
 #: Observation row of Example 1.
 H_SPHERE = np.array([[1.0, -1.0, 1.0]])
+
+#: Constructions of the Example 1 chain: name -> (successors per centroid, exclude the centroid itself).
+SPHERE_CHAINS: dict[str, tuple[int, bool]] = {
+    "two-nearest": (2, False),
+    "two-others": (2, True),
+    "nearest-other": (1, True),
+}
 
 
 def _positive(value: object, name: str) -> float:
@@ -119,25 +133,64 @@ def make_sphere_example(
     n_prototypes: int = 8,
     dt: float = 0.3,
     noise_std: float = 0.1,
+    chain: str = "two-nearest",
 ) -> SphereExample:
     """Example 1: learn centroids on the sphere (Sec. 3.1) and the chain of a velocity field.
 
     ``n_points`` uniform points on the unit sphere are split into ``n_regions`` regions
     with 2-D local planes and ``n_prototypes`` k-means centroids each (then pushed
     radially onto the sphere). Transitions follow :func:`projtrack.scenes.manifolds.sphere_velocity`
-    with time step ``dt``, to the two centroids nearest the predicted point
-    (:func:`projtrack.dma.transitions_from_velocity_field`); the start is uniform.
-    ``noise_std`` is the standard deviation of ``v`` (the paper does not give it); it and
-    ``dt`` must be > 0 (ValueError otherwise).
+    with time step ``dt`` (:func:`projtrack.dma.transitions_from_velocity_field`); the
+    paper does not say how, and ``chain`` chooses the construction:
+
+    ``"two-nearest"``
+        the two centroids nearest the predicted point, weighted by a Gaussian as wide
+        as the centroid spacing (the centroid itself may be one of them: a self-loop);
+    ``"two-others"``
+        the same without the centroid itself (the point always moves);
+    ``"nearest-other"``
+        a deterministic chain: each centroid goes to the other centroid nearest the
+        predicted point (one arrow per centroid).
+
+    The start is uniform. ``noise_std`` is the standard deviation of ``v`` (the paper
+    does not give it); it and ``dt`` must be > 0 (ValueError otherwise); an unknown
+    ``chain`` is a ValueError.
     """
     noise_std = _positive(noise_std, "noise_std")
     dt = _positive(dt, "dt")
+    if chain not in SPHERE_CHAINS:
+        raise ValueError(f"chain must be one of {', '.join(SPHERE_CHAINS)}; got {chain!r}")
+    n_next, exclude_self = SPHERE_CHAINS[chain]
     X = mf.sphere_points(n_points, rng)
     man = learn_manifold(X, n_regions, n_prototypes, rng, dim=2)
     C = mf.project_to_sphere(man.prototypes)
-    A = transitions_from_velocity_field(C, mf.sphere_velocity, dt, n_next=2, project=mf.project_to_sphere)
+    A = transitions_from_velocity_field(C, mf.sphere_velocity, dt, n_next=n_next, project=mf.project_to_sphere,
+                                        exclude_self=exclude_self)
     S = len(C)
     return SphereExample(man, C, A, np.full(S, 1.0 / S), float(noise_std), float(dt))
+
+
+def _sphere_trial(rng: np.random.Generator, ex: SphereExample, n_steps: int, methods: tuple[str, ...],
+                  with_kalman: bool) -> dict[str, np.ndarray]:
+    """One trial of :func:`sphere_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
+    sensor = ex.sensor()
+    ls, lt = np.log(ex.start), log_transitions(ex.transitions)
+    path, y = ex.simulate(n_steps, rng)
+    le = sensor.log_likelihoods(y)
+    dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
+    out = {k: dec[k] == path for k in methods}
+    out.update(path=path, y=y[:, 0], viterbi_path=dec["viterbi"])
+    ml = np.argmax(le, axis=1)  # per-instant maximum likelihood over the centroids, no motion model
+    out["frame_ml"] = ml == path
+    out["frame_ml_err"] = np.linalg.norm(ex.centroids[ml] - ex.centroids[path], axis=1)
+    out["viterbi_err"] = np.linalg.norm(ex.centroids[dec["viterbi"]] - ex.centroids[path], axis=1)
+    out["chance"] = rng.integers(0, ex.n_states, n_steps) == path
+    if with_kalman:
+        xk = kalman_sphere(y, ex.noise_std, q=ex.dt)
+        nearest = np.argmin(((xk[:, None, :] - ex.centroids[None]) ** 2).sum(-1), axis=1)
+        out["kalman"] = nearest == path
+        out["kalman_err"] = np.linalg.norm(xk - ex.centroids[path], axis=1)
+    return out
 
 
 def sphere_trials(
@@ -149,27 +202,36 @@ def sphere_trials(
     methods: tuple[str, ...] = ("viterbi", "smooth", "filter"),
     with_kalman: bool = False,
 ) -> dict[str, np.ndarray]:
-    """Monte Carlo of Example 1: ``(n_trials, n_steps)`` boolean arrays "right centroid"
-    for each of ``methods`` (Viterbi, smoothing, filtering), plus the Kalman baseline's
-    nearest-centroid hits and distance errors if ``with_kalman``."""
-    sensor = ex.sensor()
-    ls, lt = np.log(ex.start), log_transitions(ex.transitions)
-    out: dict[str, list] = {m: [] for m in methods}
-    if with_kalman:
-        out.update({"kalman": [], "kalman_err": [], "viterbi_err": []})
-    for _ in range(n_trials):
-        path, y = ex.simulate(n_steps, rng)
-        le = sensor.log_likelihoods(y)
-        dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
-        for k in methods:
-            out[k].append(dec[k] == path)
-        if with_kalman:
-            xk = kalman_sphere(y, ex.noise_std, q=ex.dt)
-            nearest = np.argmin(((xk[:, None, :] - ex.centroids[None]) ** 2).sum(-1), axis=1)
-            out["kalman"].append(nearest == path)
-            out["kalman_err"].append(np.linalg.norm(xk - ex.centroids[path], axis=1))
-            out["viterbi_err"].append(np.linalg.norm(ex.centroids[dec["viterbi"]] - ex.centroids[path], axis=1))
-    return {k: np.array(v) for k, v in out.items()}
+    """Monte Carlo of Example 1 through :func:`projtrack.montecarlo.run`.
+
+    Each trial draws a state path of ``n_steps`` from the chain and its observations and
+    decodes them. Returns ``(n_trials, n_steps)`` arrays:
+
+    * for each of ``methods`` (``"viterbi"``, ``"smooth"``, ``"filter"``), booleans
+      "right centroid";
+    * ``"frame_ml"``: the same for the per-instant maximum-likelihood centroid (the
+      manifold without the motion model) and ``"chance"`` for a uniformly drawn
+      centroid (the no-data estimate);
+    * ``"viterbi_err"``, ``"frame_ml_err"``: distances to the true centroid;
+    * ``"path"``, ``"viterbi_path"`` (ints) and ``"y"`` (observations), to show a draw;
+    * with ``with_kalman``, the Kalman baseline's nearest-centroid hits (``"kalman"``)
+      and distance errors (``"kalman_err"``).
+
+    ``n_trials`` and ``n_steps`` must be positive ints; ``methods`` a non-empty subset of
+    the three decoders (ValueError otherwise). Trial ``i`` uses the ``i``-th child of
+    ``rng``, so results do not depend on the number of worker processes.
+    """
+    from projtrack.montecarlo import run
+
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
+        raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
+    if isinstance(n_trials, bool) or not isinstance(n_trials, (int, np.integer)) or n_trials < 1:
+        raise ValueError(f"n_trials must be a positive int, got {n_trials!r}")
+    methods = tuple(methods)
+    if not methods or set(methods) - {"viterbi", "smooth", "filter"}:
+        raise ValueError(f"methods must be a non-empty subset of ('viterbi', 'smooth', 'filter'), got {methods!r}")
+    trials = run(_sphere_trial, int(n_trials), rng, ex, int(n_steps), methods, bool(with_kalman))
+    return {k: np.array([t[k] for t in trials]) for k in trials[0]}
 
 
 def kalman_sphere(y: np.ndarray, noise_std: float, *, q: float = 0.3, smooth: bool = True) -> np.ndarray:
@@ -281,24 +343,56 @@ def make_road_example(
     return RoadExample(scene, states, points, A, np.full(S, 1.0 / S), receiver, float(omega), float(noise_var))
 
 
-def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False) -> dict[str, np.ndarray]:
-    """Monte Carlo of Example 2: position errors (m), ``(n_trials, n_steps)``, per method."""
+def _road_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, with_ekf: bool) -> dict[str, np.ndarray]:
+    """One drive of :func:`road_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
     sensor = ex.sensor()
     ls, lt = np.log(ex.start), log_transitions(ex.transitions)
-    out: dict[str, list] = {"viterbi": [], "smooth": [], "filter": []}
+    x = ex.scene.drive(n_steps, rng)
+    y = ex.observe(x, rng)
+    dec = decode_all(ls, lt, sensor.log_likelihoods(y))
+    out = {k: np.linalg.norm(ex.points[v] - x, axis=1) for k, v in dec.items()}
     if with_ekf:
-        out["ekf"] = []
-    for _ in range(n_trials):
-        x = ex.scene.drive(n_steps, rng)
-        y = ex.observe(x, rng)
-        dec = decode_all(ls, lt, sensor.log_likelihoods(y))
-        for k, v in dec.items():
-            out[k].append(np.linalg.norm(ex.points[v] - x, axis=1))
-        if with_ekf:
-            est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]),
-                            height=float(ex.receiver[2] - x[:, 2].mean()))
-            out["ekf"].append(np.linalg.norm(est - x[:, :2], axis=1))
-    return {k: np.array(v) for k, v in out.items()}
+        est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]),
+                        height=float(ex.receiver[2] - x[:, 2].mean()))
+        out["ekf"] = np.linalg.norm(est - x[:, :2], axis=1)
+    return out
+
+
+def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False) -> dict[str, np.ndarray]:
+    """Monte Carlo of Example 2 through :func:`projtrack.montecarlo.run`.
+
+    Each trial is a new drive of ``n_steps`` seconds and its observations (eq. (14)),
+    decoded by Viterbi, smoothing and filtering (and the road-ignoring EKF if
+    ``with_ekf``). Returns position errors in m, ``(n_trials, n_steps)``, per method.
+    ``n_trials`` and ``n_steps`` (>= 2) must be positive ints (ValueError otherwise).
+    """
+    from projtrack.montecarlo import run
+
+    if isinstance(n_trials, bool) or not isinstance(n_trials, (int, np.integer)) or n_trials < 1:
+        raise ValueError(f"n_trials must be a positive int, got {n_trials!r}")
+    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
+        raise ValueError(f"n_steps must be an int >= 2, got {n_steps!r}")
+    trials = run(_road_trial, int(n_trials), rng, ex, int(n_steps), bool(with_ekf))
+    return {k: np.array([t[k] for t in trials]) for k in trials[0]}
+
+
+def lost_drives(errors: np.ndarray, *, distance: float = 50.0, fraction: float = 0.1) -> np.ndarray:
+    """Which drives lock onto a wrong road: more than ``fraction`` of their instants
+    farther than ``distance`` (m) from the truth.
+
+    ``errors`` is an ``(n_drives, n_steps)`` array of position errors (as returned by
+    :func:`road_trials`); returns an ``(n_drives,)`` boolean array. ``distance`` must be
+    > 0 and ``fraction`` in [0, 1) (ValueError otherwise).
+    """
+    e = np.asarray(errors, dtype=float)
+    if e.ndim != 2 or e.size == 0:
+        raise ValueError(f"errors must be a non-empty (n_drives, n_steps) array, got shape {e.shape}")
+    if not np.isfinite(e).all() or (e < 0).any():
+        raise ValueError("errors must be finite and >= 0")
+    distance = _positive(distance, "distance")
+    if not (0 <= fraction < 1):
+        raise ValueError(f"fraction must be in [0, 1), got {fraction!r}")
+    return (e > distance).mean(axis=1) > fraction
 
 
 def ekf_range(
@@ -375,6 +469,21 @@ def active_pixels(frames: np.ndarray, threshold: float, background: np.ndarray |
     return np.abs(F - bg) > threshold
 
 
+def training_background(train_videos: list) -> np.ndarray:
+    """The background image of Example 3 from the training runs only: the per-pixel
+    median of all their frames (the car moves, so the median is the empty scene).
+
+    ``train_videos`` is a non-empty list of objects with a ``frames`` array ``(N, H, W)``
+    (e.g. :class:`projtrack.scenes.slotcar.SlotCarVideo`) of one frame size
+    (ValueError otherwise)."""
+    if not isinstance(train_videos, (list, tuple)) or not train_videos:
+        raise ValueError("train_videos must be a non-empty list of videos")
+    frames = [np.asarray(getattr(v, "frames", None), dtype=float) for v in train_videos]
+    if any(f.ndim != 3 for f in frames) or len({f.shape[1:] for f in frames}) != 1:
+        raise ValueError("every training video must have frames of shape (N, H, W) with one frame size")
+    return np.median(np.concatenate(frames), axis=0)
+
+
 def fit_slotcar(
     train_videos: list,
     rng: np.random.Generator,
@@ -384,17 +493,23 @@ def fit_slotcar(
     box: int = 5,
     threshold: float = 0.15,
     annotation_std: float = 0.5,
+    background: np.ndarray | None = None,
 ) -> tuple[DMA, ActivePixelSensor]:
     """Example 3 training: DMA on hand-annotated car positions, ``c`` of eq. (15) from frames.
 
     The paper annotated the training runs by hand; here the generator's true positions
     plus ``N(0, annotation_std^2)`` pixel noise stand in for the annotation. The
-    manifold (1-D local frames), the transition matrix and ``c`` (see
-    :meth:`ActivePixelSensor.fit_c`) are all learned from the training runs only.
+    manifold (1-D local frames), the transition matrix, the start distribution (state
+    frequencies of the training runs, :func:`projtrack.dma.estimate_start`) and ``c``
+    (see :meth:`ActivePixelSensor.fit_c`) are all learned from the training runs only.
+    The active pixels of the training frames are taken against ``background``
+    (default: :func:`training_background` of ``train_videos``); use the same image for
+    the test video.
     """
     trajs = [v.positions + annotation_std * rng.standard_normal(v.positions.shape) for v in train_videos]
     model = DMA(n_regions=n_regions, n_prototypes=n_prototypes, dim=1, rng=rng).fit(trajs)
-    act = np.concatenate([active_pixels(v.frames, threshold) for v in train_videos])
+    bg = training_background(train_videos) if background is None else background
+    act = np.concatenate([active_pixels(v.frames, threshold, bg) for v in train_videos])
     pos = np.concatenate(trajs)
     c = ActivePixelSensor.fit_c(act, pos, box)
     return model, ActivePixelSensor(model.prototypes_, box, c)

@@ -19,6 +19,17 @@ Stands in for the unpublished video of Example 3 of Marques et al. (2002), Fig. 
   slows in bends and varies from lap to lap.
 * **Sensor noise**: i.i.d. ``N(0, noise^2)`` per pixel and frame (default 0.05).
 
+Harder conditions (all off by default, so the default video is the easy case):
+
+* **Illumination drift** (``illumination = a``): every frame is multiplied by a slowly
+  varying gain ``1 + a sin(2 pi t / (20 fps) + phase)`` (a 20 s period, random phase), so
+  a fixed background image no longer matches the scene;
+* **Lower contrast** (``car_peak``): the car's peak intensity (default 0.95; the track is
+  about 0.2 and the grass about 0.45);
+* **Clutter** (``clutter = m``): a Poisson(``m``) number of car-like blobs per frame
+  (peak ``0.8 car_peak``) at uniform random places, like reflections or people moving
+  beside the track.
+
 The true car positions and an ``occluded`` flag are returned with the frames.
 """
 
@@ -81,6 +92,9 @@ def make_slotcar_video(
     bridge_width: float = 7.0,
     fps: float = 12.0,
     scene_seed: int = 2002,
+    illumination: float = 0.0,
+    car_peak: float = 0.95,
+    clutter: float = 0.0,
 ) -> SlotCarVideo:
     """Render a slot-car video (see the module docstring).
 
@@ -102,12 +116,19 @@ def make_slotcar_video(
         Frame rate (only recorded), > 0.
     scene_seed : int
         Seed of the fixed background texture (the same scene for every run).
+    illumination : float
+        Amplitude of the illumination drift (relative gain), in [0, 1).
+    car_peak : float
+        Peak intensity of the car, in (0, 1].
+    clutter : float
+        Mean number of clutter blobs per frame, >= 0.
 
     Raises
     ------
     ValueError
         If ``n_frames`` is not a positive int, ``shape`` is not two ints >= 16, ``speed``,
-        ``fps`` or ``bridge_width`` is not > 0, or ``noise`` is negative (each message
+        ``fps`` or ``bridge_width`` is not > 0, ``noise`` or ``clutter`` is negative,
+        ``illumination`` is not in [0, 1) or ``car_peak`` not in (0, 1] (each message
         names the argument).
     """
     if not isinstance(rng, np.random.Generator):
@@ -127,6 +148,13 @@ def make_slotcar_video(
             raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     if not (isinstance(noise, (int, float, np.integer, np.floating)) and np.isfinite(noise) and noise >= 0):
         raise ValueError(f"noise must be a finite number >= 0, got {noise!r}")
+    for name, value, lo, hi, lo_open, hi_open in (("illumination", illumination, 0.0, 1.0, False, True),
+                                                  ("car_peak", car_peak, 0.0, 1.0, True, False),
+                                                  ("clutter", clutter, 0.0, np.inf, False, True)):
+        ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) and not np.isnan(value)
+        ok = ok and (value > lo if lo_open else value >= lo) and (value < hi if hi_open else value <= hi)
+        if not ok:
+            raise ValueError(f"{name} must be a number in {'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}, got {value!r}")
     srng = np.random.default_rng(scene_seed)
     tex = srng.normal(0, 0.09, (H + 2, W + 2))
     tex = sum(tex[i:i + H, j:j + W] for i in range(3) for j in range(3)) / 9.0
@@ -151,6 +179,7 @@ def make_slotcar_video(
     speed_len = np.linalg.norm(ds, axis=1) / (fine[1] - fine[0])  # px per radian
     phi = rng.uniform(0, 2 * np.pi)
     e = 0.0
+    light_phase = rng.uniform(0, 2 * np.pi) if illumination > 0 else 0.0
     frames = np.empty((n_frames, H, W), dtype=np.float32)
     pos = np.empty((n_frames, 2))
     occl = np.zeros(n_frames, dtype=bool)
@@ -166,13 +195,20 @@ def make_slotcar_video(
         p = track_points(np.array([phi]), shape)[0]
         under = bool(_bridge_phi(phi - np.pi, under_half))
         if under:
-            img = img + blob * (0.95 - img)
+            img = img + blob * (car_peak - img)
             img = np.where(deck, deck_val, img)
             occl[t] = bool(deck[int(round(min(max(p[0], 0), H - 1))), int(round(min(max(p[1], 0), W - 1)))])
         else:
             # on the bridge or elsewhere the car is drawn on top of the deck
             img = np.where(deck, deck_val, img)
-            img = img + blob * (0.95 - img)
+            img = img + blob * (car_peak - img)
+        if clutter > 0:
+            for _ in range(int(rng.poisson(clutter))):
+                q = rng.uniform((0, 0), (H, W))
+                spot = np.exp(-0.5 * ((rr - q[0]) ** 2 + (cc - q[1]) ** 2) / 0.9**2)
+                img = img + spot * (0.8 * car_peak - img) * (0.8 * car_peak > img)
+        if illumination > 0:
+            img = img * (1 + illumination * np.sin(2 * np.pi * t / (20 * fps) + light_phase))
         frames[t] = img + noise * rng.standard_normal((H, W))
         pos[t] = p
         phi = (phi + dphi) % (2 * np.pi)
