@@ -65,7 +65,7 @@ def test_ctilde_equals_kronecker_form_restricted(seed, n, m):
     m = min(m, n)
     rng = np.random.default_rng(seed)
     C = S.random_projection(n, m, rng)
-    Pn, Pm = E.duplication_matrix(n), E.duplication_matrix(m)
+    Pn, Pm = E.svec_basis_matrix(n), E.svec_basis_matrix(m)
     # eq. (6) restricted to symmetric matrices, in orthonormal coordinates
     np.testing.assert_allclose(E.ctilde(C), Pm.T @ E.kron_operator(C) @ Pn, atol=1e-12)
     X = sym(rng, n)

@@ -43,13 +43,13 @@ import scipy.optimize
 __all__ = [
     "RankDeficientWarning", "check_symmetric", "check_orthonormal",
     "svec", "smat", "symmetric_basis", "ctilde", "congruence_operator", "kron_operator",
-    "duplication_matrix", "stacked_operator", "project",
+    "svec_basis_matrix", "stacked_operator", "project",
     "axes", "support", "volume", "boundary_points", "conic_points", "is_psd", "nearest_psd",
     "interval_bounds", "interval_boundary_point", "in_interval",
     "reconstruct", "halfspace_reconstruct", "HalfspaceResult", "sdp_reconstruct", "lsi",
     "condition19", "fit_centered_ellipse",
     "shaping_matrix", "simulate", "state_space", "observability_matrix", "batch_rhs",
-    "batch_estimate", "is_observable", "propagate", "kalman_estimate", "KalmanResult",
+    "batch_estimate", "is_observable", "kalman_estimate", "KalmanResult",
 ]
 
 _SYM_TOL = 1e-9
@@ -207,9 +207,22 @@ def ctilde(C: object) -> np.ndarray:
     return congruence_operator(check_orthonormal(C))
 
 
-def duplication_matrix(n: int) -> np.ndarray:
-    """``n^2 x n(n+1)/2`` matrix ``P`` with ``vec(X) = P svec(X)`` (columns ``vec(M_l)``)."""
-    B = symmetric_basis(n)
+def svec_basis_matrix(n: int) -> np.ndarray:
+    """``n^2 x n(n+1)/2`` matrix ``P`` with ``vec(X) = P svec(X)``: its columns are ``vec(M_l)``.
+
+    The columns are the standard symmetric basis of eq. (9), so ``P`` has orthonormal columns
+    and entries ``0``, ``1`` and ``1/sqrt(2)``; ``P^T vec(X) = svec(X)``. It is *not* the
+    Magnus-Neudecker duplication matrix ``D_n`` (entries 0 and 1, ``vec(X) = D_n vech(X)``):
+    ``P = D_n diag(w)^{-1}`` with ``w = 1`` on the diagonal entries and ``sqrt(2)`` off it.
+
+    Raises
+    ------
+    ValueError
+        If ``n`` is not a positive int.
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    B = symmetric_basis(int(n))
     return B.reshape(B.shape[0], -1).T  # row-major vec equals column-major for symmetric M
 
 
@@ -476,6 +489,11 @@ def _rank(A: np.ndarray) -> int:
 class _LSI:
     """Lawson-Hanson LSI solver for a fixed ``(E, f)``: the QR factorization is computed once."""
 
+    #: relative size below which a constraint row of ``G R^{-1}`` counts as zero
+    INFEASIBLE_RTOL = 100 * np.finfo(float).eps
+    #: relative violation of the normalized constraints above which they are declared infeasible
+    FEASIBILITY_RTOL = 1e-8
+
     def __init__(self, E: np.ndarray, f: np.ndarray):
         E = np.asarray(E, float)
         f = np.asarray(f, float)
@@ -497,15 +515,28 @@ class _LSI:
             return self.x_ls
         Gt = G @ self.Rinv
         p = Gt.shape[1]
-        scale = max(1.0, float(np.max(np.abs(ht))))
-        Emat = np.vstack([Gt.T, ht[None, :] / scale])
+        # LDP (min ||z|| s.t. Gt z >= ht), made scale-free: every constraint row is divided by
+        # the norm of its Gt row and the right-hand side by max |ht| (this scales z), so the
+        # NNLS below and the infeasibility test do not depend on the scale of E, f, G or h
+        gnorm = np.linalg.norm(Gt, axis=1)
+        zero = gnorm <= self.INFEASIBLE_RTOL * max(1.0, float(gnorm.max()))
+        if np.any(ht[zero] > 0):  # 0 >= ht_i > 0
+            raise ValueError("the linear inequality constraints are infeasible")
+        Gn, hn = Gt[~zero] / gnorm[~zero, None], ht[~zero] / gnorm[~zero]
+        scale = float(np.max(np.abs(hn)))
+        Emat = np.vstack([Gn.T, hn[None, :] / scale])
         fvec = np.zeros(p + 1)
         fvec[-1] = 1.0
         u, _ = scipy.optimize.nnls(Emat, fvec, maxiter=50 * Emat.shape[1] + 100)
         r = Emat @ u - fvec
-        if abs(r[-1]) < 1e-14:
+        # Lawson & Hanson: infeasible iff the residual vanishes. Instead of an absolute cutoff
+        # on r[-1], take the candidate and check it against the normalized constraints with a
+        # relative tolerance
+        zs = -r[:-1] / r[-1] if r[-1] != 0 else None
+        if zs is None or not np.all(np.isfinite(zs)) or \
+                np.max(hn / scale - Gn @ zs) > self.FEASIBILITY_RTOL * (1.0 + np.linalg.norm(zs)):
             raise ValueError("the linear inequality constraints are infeasible")
-        z = -r[:-1] / r[-1] * scale
+        z = zs * scale
         return self.x_ls + self.Rinv @ z
 
 
@@ -671,7 +702,7 @@ def halfspace_reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: obj
 
 
 def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, upper: np.ndarray | None,
-                    solver: str = "CLARABEL", **solver_options: object) -> np.ndarray:
+                    solver: str = "CLARABEL", info: dict | None = None, **solver_options: object) -> np.ndarray:
     """Interval-constrained least squares ``min ||A svec(X) - y||^2, lower <= X <= upper`` by cvxpy.
 
     The modern reference for Sec. 5.2 / eq. (27): a semidefinite program solved by
@@ -679,12 +710,24 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     violate the PSD constraints by ~1e-5 (cvxpy issues #262, #1603); pass
     ``solver="SCS", eps=1e-9`` if SCS is wanted.
 
+    If a dict ``info`` is given, it receives ``"setup_time"`` (seconds spent building the
+    cvxpy problem and compiling it for the solver) and ``"solve_time"`` (the solver's own
+    time as it reports it), so that timings can be given with and without cvxpy's set-up.
+
     Raises
     ------
     RuntimeError
         If the solver does not report an optimal solution.
+    TypeError
+        If ``info`` is neither None nor a dict.
     """
+    import time
+
     import cvxpy as cp
+
+    if info is not None and not isinstance(info, dict):
+        raise TypeError(f"info must be a dict or None, got {type(info).__name__}")
+    t_start = time.perf_counter()
 
     N = A.shape[1]
     n = _n_from_dim(N)
@@ -709,6 +752,13 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
         raise RuntimeError(f"the SDP solver {solver} returned status {prob.status!r}; tighten or change the solver")
     for w in caught:  # other warnings (none expected) are passed on to the caller
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if info is not None:
+        total = time.perf_counter() - t_start
+        solve = prob.solver_stats.solve_time if prob.solver_stats is not None else None
+        solve = float(solve) if solve is not None else float("nan")
+        info["solve_time"] = solve
+        info["setup_time"] = total - solve if np.isfinite(solve) else float("nan")
+        info["total_time"] = total
     Xv = np.asarray(X.value, float)
     return (Xv + Xv.T) / 2
 
@@ -990,11 +1040,6 @@ def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
     """True when the observability matrix of eq. (25) has full column rank ``n(n+1)/2``."""
     O = observability_matrix(Cs, As)
     return _rank(O) == O.shape[1]
-
-
-def propagate(X0: object, As: object, Bs: object = None, n_steps: int | None = None) -> np.ndarray:
-    """Propagate an initial estimate through eq. (20) (alias of :func:`simulate`)."""
-    return simulate(X0, As, Bs, n_steps)
 
 
 def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None,

@@ -236,12 +236,20 @@ def static_observations(variance: float, rng: np.random.Generator, X: np.ndarray
 
 
 def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: float = 4.0,
-                       tau: float = 0.8, alpha: float = 0.9, psi: float = 0.0, phi: float = np.pi / 15) -> dict:
+                       tau: float = 0.8, alpha: float = 0.9, psi: float = 0.0, phi: float = np.pi / 15,
+                       drive: object = None) -> dict:
     """The dynamic ellipse of Sec. 7.2 of KVW and its noisy single-view observations.
 
     ``X_0`` is eq. (26), ``A_k = A(tau, alpha, psi, phi)`` of eq. (23) (imported lazily from
-    :mod:`projtrack.ellipsoids`), ``B_k`` from :func:`periodic_drive`, ``C_k = [1, 0]^T``
-    and log-normal noise of the given variance on ``C_k^T X_k C_k``.
+    :mod:`projtrack.ellipsoids`), ``C_k = [1, 0]^T`` and log-normal noise of the given
+    variance on ``C_k^T X_k C_k``. ``drive`` is the sequence ``B_0..B_{n_steps-2}`` (shape
+    ``(n_steps - 1, 2, 2)``, symmetric PSD); ``None`` means ``periodic_drive(n_steps - 1)``,
+    our documented choice (the paper shows its drive only as a picture).
+
+    Raises
+    ------
+    ValueError
+        If ``n_steps < 2`` or ``drive`` has the wrong shape, is not finite, symmetric or PSD.
 
     Returns
     -------
@@ -253,7 +261,22 @@ def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: fl
     if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
         raise ValueError(f"n_steps must be an int >= 2 (at least one transition), got {n_steps!r}")
     A = E.shaping_matrix(tau, alpha, psi, phi)
-    Bs = periodic_drive(n_steps - 1)
+    if drive is None:
+        Bs = periodic_drive(n_steps - 1)
+    else:
+        try:
+            Bs = np.array(drive, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError("drive must be an array of shape (n_steps - 1, 2, 2)") from None
+        if Bs.shape != (n_steps - 1, 2, 2):
+            raise ValueError(f"drive must have shape ({n_steps - 1}, 2, 2) for n_steps={n_steps}, got {Bs.shape}")
+        if not np.all(np.isfinite(Bs)):
+            raise ValueError("drive must be finite")
+        if np.max(np.abs(Bs - Bs.transpose(0, 2, 1))) > 1e-9 * max(1.0, float(np.max(np.abs(Bs)))):
+            raise ValueError("every drive matrix B_k must be symmetric")
+        Bs = (Bs + Bs.transpose(0, 2, 1)) / 2
+        if np.min(np.linalg.eigvalsh(Bs)) < -1e-9 * max(1.0, float(np.max(np.abs(Bs)))):
+            raise ValueError("every drive matrix B_k must be positive semidefinite")
     As = [A] * (n_steps - 1)
     Xs = E.simulate(X26, As, Bs)
     C = np.array([[1.0], [0.0]])

@@ -1,0 +1,72 @@
+"""Tests of the renamed basis matrix, the scale-free LSI, the SDP timing info and the drive parameter."""
+
+import numpy as np
+import pytest
+
+from projtrack import ellipsoids as E
+from projtrack.scenes import ellipses as S
+
+
+def test_svec_basis_matrix_maps_svec_to_vec_and_is_not_the_duplication_matrix():
+    rng = np.random.default_rng(0)
+    for n in range(1, 6):
+        P = E.svec_basis_matrix(n)
+        X = rng.normal(size=(n, n))
+        X = X + X.T
+        np.testing.assert_allclose(P @ E.svec(X), X.reshape(-1), atol=1e-12)
+        np.testing.assert_allclose(P.T @ P, np.eye(n * (n + 1) // 2), atol=1e-12)
+    # the Magnus-Neudecker duplication matrix has only 0/1 entries; ours has 1/sqrt(2) off the diagonal
+    assert np.isclose(np.max(E.svec_basis_matrix(2)[1]), 1 / np.sqrt(2))
+    for bad in (0, -1, 2.0, True):
+        with pytest.raises(ValueError, match="n must be"):
+            E.svec_basis_matrix(bad)
+    assert not hasattr(E, "duplication_matrix") and not hasattr(E, "propagate")
+
+
+@pytest.mark.parametrize("s", [1e-9, 1e-3, 1.0, 1e4, 1e9])
+def test_lsi_feasibility_is_scale_free(s):
+    # feasible: min ||x - 1|| s.t. x_1 >= 2  ->  (2, 1), whatever the scale of E, f, G, h
+    x = E.lsi(s * np.eye(2), s * np.ones(2), s * np.array([[1.0, 0.0]]), s * np.array([2.0]))
+    np.testing.assert_allclose(x, [2.0, 1.0], rtol=1e-9)
+    x = E.lsi(s * np.eye(2), s * np.ones(2), np.array([[1.0, 0.0]]), np.array([2.0]))
+    np.testing.assert_allclose(x, [2.0, 1.0], rtol=1e-9)
+    # infeasible: x_1 >= 1 and -x_1 >= 1
+    with pytest.raises(ValueError, match="infeasible"):
+        E.lsi(s * np.eye(2), np.zeros(2), s * np.array([[1.0, 0.0], [-1.0, 0.0]]), s * np.array([1.0, 1.0]))
+    # a nearly empty but feasible slab (width 1e-6 relative) is still feasible
+    x = E.lsi(s * np.eye(2), np.zeros(2), s * np.array([[1.0, 0.0], [-1.0, 0.0]]), s * np.array([1.0, -1.000001]))
+    assert 1.0 - 1e-9 <= x[0] <= 1.000001 + 1e-9
+
+
+def test_lsi_zero_row_with_positive_rhs_is_infeasible():
+    with pytest.raises(ValueError, match="infeasible"):
+        E.lsi(np.eye(2), np.zeros(2), np.zeros((1, 2)), np.array([1.0]))
+
+
+def test_sdp_reconstruct_reports_setup_and_solve_time():
+    info = {}
+    X = E.sdp_reconstruct(np.eye(3), np.array([1.0, -1.0, 1.0]), np.zeros((2, 2)), None, info=info)
+    assert np.linalg.eigvalsh(X)[0] >= -1e-7
+    assert set(info) >= {"setup_time", "solve_time", "total_time"}
+    assert 0 < info["solve_time"] <= info["total_time"]
+    assert np.isclose(info["setup_time"] + info["solve_time"], info["total_time"])
+    with pytest.raises(TypeError, match="info"):
+        E.sdp_reconstruct(np.eye(3), np.ones(3), np.zeros((2, 2)), None, info=[])
+
+
+def test_dynamic_experiment_takes_the_drive():
+    rng = np.random.default_rng(1)
+    default = S.dynamic_experiment(np.random.default_rng(1), n_steps=6)
+    same = S.dynamic_experiment(rng, n_steps=6, drive=S.periodic_drive(5))
+    np.testing.assert_allclose(same["Xs"], default["Xs"])
+    none = S.dynamic_experiment(np.random.default_rng(1), n_steps=6, drive=np.zeros((5, 2, 2)))
+    np.testing.assert_allclose(none["Xs"], E.simulate(S.X26, none["As"], None))
+    assert not np.allclose(none["Xs"], default["Xs"])
+    with pytest.raises(ValueError, match="shape"):
+        S.dynamic_experiment(rng, n_steps=6, drive=np.zeros((4, 2, 2)))
+    with pytest.raises(ValueError, match="symmetric"):
+        S.dynamic_experiment(rng, n_steps=3, drive=[[[1.0, 1.0], [0.0, 1.0]]] * 2)
+    with pytest.raises(ValueError, match="semidefinite"):
+        S.dynamic_experiment(rng, n_steps=3, drive=[-np.eye(2)] * 2)
+    with pytest.raises(ValueError, match="finite"):
+        S.dynamic_experiment(rng, n_steps=3, drive=[np.full((2, 2), np.nan)] * 2)
