@@ -72,10 +72,11 @@ METHODS: tuple[str, ...] = ("qr", "vip")
 class EigenvalueDroppedWarning(RuntimeWarning):
     """An eigenvalue that carries information was dropped because it is below the tolerance.
 
-    Raised (as a warning) by :class:`NoveltyFilter` when ``T_I = 1`` asks for every eigenimage
-    but a candidate eigenvalue above the rounding level of the chosen route is smaller than
-    ``1e-12`` times the sum of the eigenvalues (it cannot be kept reliably), and by the
-    ``"vip"`` route when an eigenvalue is not positive.
+    Issued by :class:`NoveltyFilter` with ``method="vip"`` when ``T_I = 1`` asks for every
+    eigenimage but a candidate eigenvalue above the rounding level of the VIP matrix is smaller
+    than ``1e-12`` times the sum of the eigenvalues (the VIP route cannot resolve it), or when an
+    eigenvalue of the VIP matrix is not positive beyond rounding.  The ``"qr"`` route keeps
+    every eigenvalue above its own (much lower) rounding level.
     """
 
 #: The steps of Table 1 (the adaptive recursive SVD algorithm), as implemented by
@@ -518,9 +519,10 @@ class NoveltyFilter:
         ``T_I`` of Eq. (11): the smallest number of eigenimages whose information fractions
         (Eq. (10)) sum to at least ``T_I`` is kept.  With ``T_d = 0`` and ``T_I = 1`` the
         filter reproduces the batch eigen-decomposition of the correlation matrix of all
-        frames (up to rounding).  Fractions below 1e-12 cannot be kept reliably and are
-        dropped; when ``T_I = 1`` and such a fraction is above the rounding level of the route,
-        an :class:`EigenvalueDroppedWarning` says so.
+        frames (up to rounding).  With ``T_I = 1`` the ``"qr"`` route keeps every fraction
+        above its rounding level (about ``1e-29``); the ``"vip"`` route drops fractions below
+        1e-12 and says so with an :class:`EigenvalueDroppedWarning` when one of them is above
+        its rounding level (about ``1e-14``).
     method : {"qr", "vip"}
         Numerical route of the update (see the module docstring): ``"qr"`` (default) works
         with the residual of the new frame and keeps the eigenimages orthonormal to rounding
