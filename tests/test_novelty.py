@@ -1,6 +1,7 @@
 """Tests of projtrack.novelty (Vermeulen & Casasent 1988, Eqs. (2)-(12))."""
 from __future__ import annotations
 
+import warnings
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -160,12 +161,13 @@ def test_novelty_zero_in_span_one_orthogonal():
     np.testing.assert_allclose(f.transform(a), [0.0, 2.0], atol=1e-12)
 
 
-def test_td0_uses_frames_in_the_span():
+@pytest.mark.parametrize("method", nv.METHODS)
+def test_td0_uses_frames_in_the_span(method):
     a = np.zeros((3, 3)); a[0] = 1.0
-    f = nv.NoveltyFilter(0.0, 1.0)
+    f = nv.NoveltyFilter(0.0, 1.0, method=method)
     f.partial_fit(a)
     n, novel = f.partial_fit(2 * a)
-    assert n == 0.0 and novel
+    assert n == pytest.approx(0.0, abs=1e-20) and novel
     assert f.eigenvalues_ == pytest.approx([(3 + 12) / 2])   # (|a|^2 + |2a|^2) / 2
     assert f.rank_ == 1
 
@@ -299,3 +301,134 @@ def test_process_sequence_records():
 
 def test_table1_steps():
     assert [s for s, _ in nv.TABLE1_STEPS] == list(range(1, 12))
+
+
+# --- the two numerical routes, the dropped-eigenvalue warning, the report's printed numbers ---
+def _near_duplicates(delta, n=6, p=400, seed=11):
+    rng = np.random.default_rng(seed)
+    base = rng.uniform(50, 200, p)
+    return np.array([base + delta * rng.standard_normal(p) for _ in range(n)])
+
+
+def _ortho_error(f):
+    u = f.components_
+    return float(np.max(np.abs(u @ u.T - np.eye(len(u)))))
+
+
+def test_qr_route_keeps_orthonormality_on_near_duplicates_vip_does_not():
+    frames = _near_duplicates(1e-3)          # frames differ by 1e-3 grey levels around 125
+    s2 = np.linalg.svd(frames, compute_uv=False) ** 2 / len(frames)   # the oracle
+    qr = nv.NoveltyFilter(0.0, 1.0, method="qr").fit(frames)
+    vip = nv.NoveltyFilter(0.0, 1.0, method="vip").fit(frames)
+    assert qr.rank_ == vip.rank_ == len(frames)
+    assert _ortho_error(qr) < 1e-12
+    assert _ortho_error(vip) > 1e-7          # the Gram matrix squares the condition number
+    np.testing.assert_allclose(qr.eigenvalues_, s2, rtol=1e-9)
+    assert np.max(np.abs(vip.eigenvalues_ - s2) / s2) > 1e-7
+
+
+def test_vip_route_warns_when_ti1_drops_information_qr_keeps_it():
+    frames = _near_duplicates(1e-4)          # new directions carry fractions ~1e-13
+    with pytest.warns(nv.EigenvalueDroppedWarning, match="T_I = 1"):
+        vip = nv.NoveltyFilter(0.0, 1.0, method="vip").fit(frames)
+    assert vip.rank_ < len(frames)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        qr = nv.NoveltyFilter(0.0, 1.0, method="qr").fit(frames)
+    assert qr.rank_ == len(frames)
+    assert _ortho_error(qr) < 1e-12
+
+
+def test_routes_agree_on_well_conditioned_frames():
+    rng = np.random.default_rng(3)
+    frames = rng.uniform(0, 255, (8, 10, 10))
+    a = nv.process_sequence(frames, 0.01, 0.999, method="qr")
+    b = nv.process_sequence(frames, 0.01, 0.999, method="vip")
+    for ra, rb in zip(a, b):
+        assert ra.novel == rb.novel and ra.rank == rb.rank
+        assert ra.novelty == pytest.approx(rb.novelty, rel=1e-9, abs=1e-12)
+        np.testing.assert_allclose(ra.vip, rb.vip, rtol=1e-10)
+        np.testing.assert_allclose(ra.eigenvalues, rb.eigenvalues, rtol=1e-9)
+
+
+def test_no_warning_when_the_rank_rule_or_a_zero_eigenvalue_drops():
+    a = np.zeros(50); a[0] = 100.0
+    b = np.zeros(50); b[1] = 100.0
+    c = a.copy(); c[2] = 1e-4                # new direction with a fraction ~3e-13
+    for method in nv.METHODS:
+        # T_I < 1: dropping is the rank rule's own choice
+        g = nv.NoveltyFilter(0.0, 0.999, method=method)
+        g.partial_fit(a); g.partial_fit(b)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            g.partial_fit(c)
+        assert g.rank_ == 2
+        # a frame exactly in the span drops only a zero eigenvalue
+        h = nv.NoveltyFilter(0.0, 1.0, method=method)
+        h.partial_fit(a); h.partial_fit(b)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            h.partial_fit(a + b)
+        assert h.rank_ == 2
+    # T_I = 1: the qr route keeps the small direction, the vip route drops it and warns
+    q = nv.NoveltyFilter(0.0, 1.0, method="qr")
+    q.partial_fit(a); q.partial_fit(b); q.partial_fit(c)
+    assert q.rank_ == 3
+    v = nv.NoveltyFilter(0.0, 1.0, method="vip")
+    v.partial_fit(a); v.partial_fit(b)
+    with pytest.warns(nv.EigenvalueDroppedWarning):
+        v.partial_fit(c)
+    assert v.rank_ == 2
+
+
+def test_bad_method():
+    with pytest.raises(ValueError, match="method"):
+        nv.NoveltyFilter(0.01, 0.9, method="svd")
+    with pytest.raises(ValueError, match="method"):
+        nv.NoveltyClassifier(method=None)
+    with pytest.raises(ValueError, match="method"):
+        nv.process_sequence(np.ones((2, 3, 3)), 0.1, 0.9, method="QR")
+
+
+def _pair_with_novelty(n, energy_ratio=1.0, p=64, seed=0):
+    """Unit frame ``a`` and a frame ``b`` with ``|b|^2 = energy_ratio`` and novelty ``n`` wrt ``a``."""
+    rng = np.random.default_rng(seed)
+    q, _ = np.linalg.qr(rng.standard_normal((p, 2)))
+    a, e = q[:, 0] * 100, q[:, 1] * 100
+    b = np.sqrt(energy_ratio) * (np.sqrt(1 - n) * a + np.sqrt(n) * e)
+    return a, b
+
+
+@pytest.mark.parametrize("method", nv.METHODS)
+def test_report_frame4_numbers(method):
+    # Fig. 2c: two equal-energy frames with n_4 = 0.002498 give F = [0.999375, 0.000625]
+    a, b = _pair_with_novelty(0.002498)
+    f = nv.NoveltyFilter(0.002, 0.95, method=method)
+    f.partial_fit(a)
+    n, novel = f.partial_fit(b)
+    assert novel and n == pytest.approx(0.002498, rel=1e-9)
+    np.testing.assert_allclose(np.round(f.information_fractions_, 6), [0.999375, 0.000625])
+    assert f.rank_ == 1
+
+
+def test_report_frame8_fraction_needs_three_prior_updates():
+    # Fig. 2e: n_8 = 0.005841 and F_8 = 0.001090; equal-energy frames give 0.0013 after two
+    # prior updates (frames 1 and 4, as the text says) and 0.0011 only after three
+    out = {}
+    for prior in (1, 2, 3, 4):
+        a, b = _pair_with_novelty(0.005841)
+        f = nv.NoveltyFilter(0.0, 0.95)
+        for _ in range(prior):
+            f.partial_fit(a)
+        f.partial_fit(b)
+        out[prior] = float(f.information_fractions_[1])
+    assert round(out[2], 4) == 0.0013
+    assert round(out[3], 4) == 0.0011
+    assert abs(out[3] - 0.001090) < abs(out[2] - 0.001090) / 10
+
+
+def test_report_frame2_vip_numbers():
+    # Fig. 2b: the printed V_2 gives the printed n_2 through Eq. (7), and v(1,1) = V_1 / 2 (Eq. 4)
+    v = np.array([[36772008.0, 36772052.0], [36772052.0, 36838816.0]])
+    assert nv._novelty_from_vip(v) == pytest.approx(0.001811, abs=5e-7)
+    assert 73544016 / 2 == v[0, 0]

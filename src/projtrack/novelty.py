@@ -20,6 +20,16 @@ Implemented here:
 - :class:`NoveltyClassifier`: one novelty filter per class, smallest novelty wins (Table 2).
 - :func:`process_sequence`: runs a filter over a sequence and records what Figs. 2-3 display.
 
+Two numerical routes for the update (``method=``).  ``"vip"`` is the paper's: eigen-decompose
+the bordered VIP matrix ``V_i`` (Eqs. (4)-(5)) and combine eigenimages and frame with its
+eigenvectors (Eq. (9)).  ``V_i`` is a Gram matrix, so its condition number is the square of that of
+the images it is built from: for near-duplicate frames the small eigenvalues lose half their digits
+and the new eigenimages lose orthonormality.  ``"qr"`` (the default) splits the new frame into its
+part in the span of the eigenimages and the orthogonal residual (classical Gram-Schmidt, applied
+twice) and takes the SVD of the small ``(K+1) x (K+1)`` triangular factor; it gives the same
+eigenvalues and eigenimages in exact arithmetic (``V_i = B B^T / i`` with ``B`` that factor) and
+computes the novelty of Eq. (7) as ``|residual|^2 / |x|^2`` without cancellation.
+
 Conventions.  Frames may have any shape (they are scanned lexicographically, i.e. flattened
 in C order) and any real dtype (8-bit frames are converted to float64).  The stored
 ``eigenimages_`` are *unit-norm* (the normalized eigenimages of Eq. (3)); the paper's weighted
@@ -50,7 +60,24 @@ __all__ = [
     "NoveltyFilter",
     "NoveltyClassifier",
     "process_sequence",
+    "METHODS",
+    "EigenvalueDroppedWarning",
 ]
+
+#: The numerical routes of the eigenimage update: ``"qr"`` (residual-based, the default) and
+#: ``"vip"`` (the paper's bordered VIP matrix, Eqs. (4)-(9)).
+METHODS: tuple[str, ...] = ("qr", "vip")
+
+
+class EigenvalueDroppedWarning(RuntimeWarning):
+    """An eigenvalue that carries information was dropped because it is below the tolerance.
+
+    Issued by :class:`NoveltyFilter` with ``method="vip"`` when ``T_I = 1`` asks for every
+    eigenimage but a candidate eigenvalue above the rounding level of the VIP matrix is smaller
+    than ``1e-12`` times the sum of the eigenvalues (the VIP route cannot resolve it), or when an
+    eigenvalue of the VIP matrix is not positive beyond rounding.  The ``"qr"`` route keeps
+    every eigenvalue above its own (much lower) rounding level.
+    """
 
 #: The steps of Table 1 (the adaptive recursive SVD algorithm), as implemented by
 #: :meth:`NoveltyFilter.partial_fit`; Fig. 1 (the block diagram) is drawn from this list.
@@ -146,6 +173,12 @@ def _check_fraction(value: Any, name: str) -> float:
     if not (0.0 <= v <= 1.0):
         raise ValueError(f"{name} must lie in [0, 1], got {v!r}")
     return v
+
+
+def _check_method(method: Any) -> str:
+    if not isinstance(method, str) or method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(repr(m) for m in METHODS)}, got {method!r}")
+    return method
 
 
 def _as_frame(frame: Any, name: str = "frame") -> np.ndarray:
@@ -313,16 +346,81 @@ def _novelty_from_vip(v: np.ndarray) -> float:
     return float(np.clip(1.0 - alpha2.sum(), 0.0, 1.0))
 
 
+def _rounding_floor(method: str, k: int) -> float:
+    """Information fraction below which an eigenvalue is rounding noise for ``method``.
+
+    The ``"qr"`` route computes singular values to about ``eps`` of the largest, so
+    eigenvalues (their squares) to about ``eps**2`` of the largest; the ``"vip"`` route
+    eigen-decomposes the Gram matrix itself, so its eigenvalues are only known to about ``eps``.
+    """
+    eps = np.finfo(float).eps * 8 * (k + 1)
+    return eps ** 2 if method == "qr" else eps
+
+
 def _update_eigenimages(u: np.ndarray, lam: np.ndarray, i_prev: int, x: np.ndarray,
                         v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eq. (9): eigen-decompose V_i and form the K_i new unit eigenimages (descending)."""
+    """Eq. (9) (the ``"vip"`` route): eigen-decompose V_i and form the new unit eigenimages.
+
+    Eigenvalues that are not positive cannot give an eigenimage and are dropped; a
+    :class:`EigenvalueDroppedWarning` is issued when one of them is larger in magnitude than
+    the rounding level of the VIP matrix.
+    """
+    import warnings
+
     g, th = _eigh_desc(v)
     w = np.sqrt(i_prev * lam)
     phi = (th[:-1].T * w) @ u + np.outer(th[-1], x)      # Eq. (9), weighted eigenimages
     norms = np.linalg.norm(phi, axis=1)
     good = (g > 0) & (norms > 0)
+    bad = g[~good]
+    floor = _rounding_floor("vip", lam.size) * float(np.abs(g).sum())
+    if bad.size and np.max(np.abs(bad)) > floor:
+        warnings.warn(f"the VIP route dropped {bad.size} non-positive eigenvalue(s) down to "
+                      f"{float(bad.min()):.3g}, above its rounding level {floor:.3g}; "
+                      "use method='qr'", EigenvalueDroppedWarning, stacklevel=4)
     phi = phi[good] / norms[good, None]
     return g[good], _sign_fix(phi)
+
+
+def _residual_split(u: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Coefficients ``c = U x``, residual ``r = x - U^T c`` and ``|r|`` (Gram-Schmidt twice)."""
+    c = u @ x
+    r = x - u.T @ c
+    c2 = u @ r                     # re-orthogonalization: "twice is enough"
+    r = r - u.T @ c2
+    return c + c2, r, float(np.linalg.norm(r))
+
+
+def _qr_update(u: np.ndarray, lam: np.ndarray, i_prev: int, x: np.ndarray,
+               split: tuple[np.ndarray, np.ndarray, float] | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``"qr"`` route of the update: same result as Eqs. (4)-(9), without the Gram matrix.
+
+    The weighted eigenimages and the new frame are ``A = [sqrt(i_prev lam) u ; x] = B^T Q``
+    with ``Q = [u ; r/|r|]`` orthonormal and ``B`` upper triangular,
+    ``B = [[diag(sqrt(i_prev lam)), c], [0, |r|]]``.  With ``B = W S Z^T`` (SVD) the new unit
+    eigenimages are ``W^T Q`` and the eigenvalues of ``V_i = A A^T / i`` are ``S^2 / i``.
+    Returns all ``K_i`` eigenvalues (descending; the last is 0 when the frame lies in the span)
+    and the eigenimages of the positive ones.
+    """
+    i = i_prev + 1
+    k = lam.size
+    c, r, rho = split if split is not None else _residual_split(u, x)
+    b = np.zeros((k + 1, k + 1))
+    b[np.arange(k), np.arange(k)] = np.sqrt(i_prev * lam)
+    b[:k, k] = c
+    b[k, k] = rho
+    if rho > 0:
+        q = np.vstack([u, r[None, :] / rho])
+        wl, sv, _ = np.linalg.svd(b)
+    else:                          # the frame lies in the span: rank cannot grow
+        q = u
+        wl, sv, _ = np.linalg.svd(b[:k])
+        sv = np.concatenate([sv, [0.0]])
+    g = sv ** 2 / i
+    phi = wl.T @ q
+    phi /= np.linalg.norm(phi, axis=1, keepdims=True)
+    return g, _sign_fix(phi)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -421,7 +519,16 @@ class NoveltyFilter:
         ``T_I`` of Eq. (11): the smallest number of eigenimages whose information fractions
         (Eq. (10)) sum to at least ``T_I`` is kept.  With ``T_d = 0`` and ``T_I = 1`` the
         filter reproduces the batch eigen-decomposition of the correlation matrix of all
-        frames (up to rounding; fractions below 1e-12 count as zero).
+        frames (up to rounding).  With ``T_I = 1`` the ``"qr"`` route keeps every fraction
+        above its rounding level (about ``1e-29``); the ``"vip"`` route drops fractions below
+        1e-12 and says so with an :class:`EigenvalueDroppedWarning` when one of them is above
+        its rounding level (about ``1e-14``).
+    method : {"qr", "vip"}
+        Numerical route of the update (see the module docstring): ``"qr"`` (default) works
+        with the residual of the new frame and keeps the eigenimages orthonormal to rounding
+        even for near-duplicate frames; ``"vip"`` is the paper's bordered VIP matrix (Eqs.
+        (4)-(9)), which squares the condition number.  Both give the same VIP matrix record,
+        novelty and eigen-decomposition in exact arithmetic.
 
     Attributes
     ----------
@@ -447,10 +554,12 @@ class NoveltyFilter:
         Sequence counter ``j``.
     """
 
-    def __init__(self, novelty_threshold: float = 0.001, information_threshold: float = 0.99) -> None:
+    def __init__(self, novelty_threshold: float = 0.001, information_threshold: float = 0.99,
+                 method: str = "qr") -> None:
         self.novelty_threshold = _check_fraction(novelty_threshold, "novelty_threshold")
         self.information_threshold = _check_fraction(information_threshold,
                                                      "information_threshold")
+        self.method = _check_method(method)
         self._u: np.ndarray | None = None
         self._lam: np.ndarray | None = None
         self.frame_shape_: tuple[int, ...] | None = None
@@ -493,29 +602,71 @@ class NoveltyFilter:
             return NoveltyResult(1.0, True)
         self.n_frames_seen_ += 1                              # step 6
         i_prev = self.n_updates_
-        v = _bordered_vip(self._u, self._lam, i_prev, x)      # step 7, Eqs. (4)-(5)
-        n = _novelty_from_vip(v)                              # Eqs. (6)-(7)
+        v, n, split = self._vip_and_novelty(x, i_prev)       # step 7, Eqs. (4)-(7)
         self.vip_matrix_ = v
         self.novelty_ = n
         if not self._is_novel(n):                             # step 8, Eq. (8)
             return NoveltyResult(n, False)
-        g, u = _update_eigenimages(self._u, self._lam, i_prev, x, v)   # step 9, Eq. (9)
+        if self.method == "qr":                               # step 9, Eq. (9)
+            g, u = _qr_update(self._u, self._lam, i_prev, x, split)
+        else:
+            g, u = _update_eigenimages(self._u, self._lam, i_prev, x, v)
         f = np.abs(g) / np.abs(g).sum()                       # Eq. (10)
         self.information_fractions_ = f
-        k_hat = self._rank(f)                                 # Eq. (11)
+        k_hat = min(self._rank(f), u.shape[0])                # Eq. (11)
         self._lam, self._u = g[:k_hat].copy(), u[:k_hat].copy()   # step 10
         self.n_updates_ = i_prev + 1                          # step 4 (for the next frame)
         return NoveltyResult(n, True)
+
+    def _vip_and_novelty(self, x: np.ndarray, i_prev: int):
+        """The VIP matrix of Eqs. (4)-(5) and the novelty of Eq. (7) by the chosen route."""
+        if self.method == "vip":
+            v = _bordered_vip(self._u, self._lam, i_prev, x)
+            return v, _novelty_from_vip(v), None
+        split = _residual_split(self._u, x)
+        c, _, rho = split
+        i = i_prev + 1
+        k = self._lam.size
+        v = np.empty((k + 1, k + 1))
+        v[:k, :k] = np.diag(i_prev * self._lam / i)
+        border = np.sqrt(i_prev * self._lam) * c / i
+        v[:k, k] = border
+        v[k, :k] = border
+        xx = float(x @ x)
+        v[k, k] = xx / i
+        # Eq. (7) without cancellation: 1 - sum of squared direction cosines = |r|^2 / |x|^2
+        n = 0.0 if xx <= 0 else float(np.clip(rho * rho / xx, 0.0, 1.0))
+        return v, n, split
 
     def _is_novel(self, n: float) -> bool:
         """Eq. (8): ``n > T_d``; with ``T_d = 0`` every frame is used (even one in the span)."""
         return bool(n > self.novelty_threshold or self.novelty_threshold == 0.0)
 
     def _rank(self, fractions: np.ndarray) -> int:
-        """Eq. (11): smallest m with sum_{k<=m} F_k >= T_I (fractions < 1e-12 count as 0)."""
+        """Eq. (11): smallest m with sum_{k<=m} F_k >= T_I.
+
+        With ``T_I = 1`` every eigenimage is kept whose fraction is above the route's
+        tolerance: the rounding level for ``"qr"``, 1e-12 for ``"vip"`` (whose eigenvalues are
+        known only to about ``eps`` of the largest).  When the ``"vip"`` route drops a fraction
+        below 1e-12 that is above its rounding level, an :class:`EigenvalueDroppedWarning`
+        says so.
+        """
+        import warnings
+
+        if self.information_threshold >= 1.0:
+            floor = _rounding_floor(self.method, fractions.size - 1)
+            tol = floor if self.method == "qr" else _FRACTION_TOL
+            m = max(1, int(np.sum(fractions > tol)))
+            dropped = fractions[m:]
+            lost = dropped[dropped > floor]
+            if lost.size:
+                warnings.warn(f"T_I = 1 asks for every eigenimage, but {lost.size} eigenvalue(s) "
+                              f"with information fraction down to {float(lost.min()):.3g} (below "
+                              f"the tolerance {tol:g} of the '{self.method}' route) were dropped",
+                              EigenvalueDroppedWarning, stacklevel=3)
+            return m
         c = np.cumsum(fractions)
-        target = min(self.information_threshold, 1.0 - _FRACTION_TOL)
-        m = int(np.searchsorted(c, target - _FRACTION_TOL, side="left")) + 1
+        m = int(np.searchsorted(c, self.information_threshold - _FRACTION_TOL, side="left")) + 1
         return max(1, min(m, fractions.size))
 
     def fit(self, frames: Any) -> "NoveltyFilter":
@@ -553,7 +704,7 @@ class NoveltyFilter:
         """``n`` of Eq. (7) for ``frame`` against the current model, without updating it."""
         self._check_fitted()
         x = self._vector(frame)
-        return _novelty_from_vip(_bordered_vip(self._u, self._lam, self.n_updates_, x))
+        return self._vip_and_novelty(x, self.n_updates_)[1]
 
     def transform(self, frame: Any) -> np.ndarray:
         """Coefficients ``x^T Phi_k`` of ``frame`` on the unit eigenimages (Eq. (12))."""
@@ -597,6 +748,13 @@ class NoveltyClassifier:
     are fed in order to its own filter (``T_d``, ``T_I`` as given), and a test frame's novelty
     (Eq. (7)) is computed against every class model without updating it.
 
+    Parameters
+    ----------
+    novelty_threshold, information_threshold : float in [0, 1]
+        ``T_d`` and ``T_I`` of every class filter.
+    method : {"qr", "vip"}
+        Numerical route of the filters' update (:class:`NoveltyFilter`).
+
     Attributes
     ----------
     classes_ : ndarray
@@ -605,10 +763,12 @@ class NoveltyClassifier:
         Label -> fitted :class:`NoveltyFilter`.
     """
 
-    def __init__(self, novelty_threshold: float = 0.06, information_threshold: float = 0.97) -> None:
+    def __init__(self, novelty_threshold: float = 0.06, information_threshold: float = 0.97,
+                 method: str = "qr") -> None:
         self.novelty_threshold = _check_fraction(novelty_threshold, "novelty_threshold")
         self.information_threshold = _check_fraction(information_threshold,
                                                      "information_threshold")
+        self.method = _check_method(method)
 
     def fit(self, frames: Any, labels: Sequence[Any]) -> "NoveltyClassifier":
         """Train one filter per label on ``frames`` (``(n, *shape)``) in the given order."""
@@ -620,7 +780,7 @@ class NoveltyClassifier:
         self.classes_ = np.unique(y)
         self.filters_ = {}
         for c in self.classes_:
-            f = NoveltyFilter(self.novelty_threshold, self.information_threshold)
+            f = NoveltyFilter(self.novelty_threshold, self.information_threshold, self.method)
             self.filters_[c.item() if hasattr(c, "item") else c] = f.fit(x[y == c])
         return self
 
@@ -644,7 +804,7 @@ class NoveltyClassifier:
 # a whole sequence, recorded as in Figs. 2-3
 # ---------------------------------------------------------------------------------------------
 def process_sequence(frames: Any, novelty_threshold: float, information_threshold: float,
-                     pixel_threshold: float = 8.0) -> list[FrameRecord]:
+                     pixel_threshold: float = 8.0, method: str = "qr") -> list[FrameRecord]:
     """Run a :class:`NoveltyFilter` over ``frames`` and record every frame (Figs. 2-3).
 
     Parameters
@@ -654,13 +814,15 @@ def process_sequence(frames: Any, novelty_threshold: float, information_threshol
         ``T_d`` and ``T_I``.
     pixel_threshold : float
         ``T_f`` of the novel-pixel image (8 grey levels in the paper).
+    method : {"qr", "vip"}
+        Numerical route of the update (:class:`NoveltyFilter`).
 
     Returns
     -------
     list of FrameRecord
     """
     x = _as_frames(frames)
-    filt = NoveltyFilter(novelty_threshold, information_threshold)
+    filt = NoveltyFilter(novelty_threshold, information_threshold, method)
     out = []
     for j, frame in enumerate(x, start=1):
         if j == 1:
