@@ -730,28 +730,30 @@ def assignment_max_sums(D: np.ndarray, n_targets: int | None = None, max_assignm
     if P ** (n_p - 1) > max_assignments:
         raise ValueError(f"{P}^{n_p - 1} assignments exceed max_assignments = {max_assignments}")
     perms, flat = _permutation_triples(n)
-    trip = D.reshape(n_q, -1)[:, flat]  # (N_P - 2, P, P, P, N_T): triple a under perms of frames a..a+2
+    # trip[a, i]: D of triple a for target i under the permutations of frames a..a+2 (target axis first,
+    # so that the maximum over targets is an elementwise maximum of contiguous arrays)
+    trip = np.moveaxis(D.reshape(n_q, -1)[:, flat], -1, 1)  # (N_P - 2, N_T, P, P, P)
     # S of frame f for target i: sum of the triples a with a <= f <= a + 2; frame 0 is the identity.
-    shape = (P,) * (n_p - 1) + (n,)
 
     def triple(a: int) -> np.ndarray:
-        t = trip[a, 0] if a == 0 else trip[a]        # frame 0 fixed: drop its axis
+        t = trip[a][:, 0] if a == 0 else trip[a]     # frame 0 fixed: drop its axis
         first = max(a - 1, 0)                         # first free frame axis it spans
         idx = [None] * (n_p - 1)
         for k in range(first, a + 2):
             idx[k] = slice(None)
-        return t[tuple(idx) + (slice(None),)]
+        return t[(slice(None),) + tuple(idx)]
 
     # D >= 0, so a frame whose triples are a subset of another frame's never holds the maximum:
     # only the maximal windows of triples need summing (one window for N_P = 5).
     windows = {tuple(range(max(0, f - 2), min(f, n_q - 1) + 1)) for f in range(n_p)}
     windows = [w for w in windows if not any(set(w) < set(v) for v in windows)]
-    best = np.zeros(shape[:-1])
+    best = np.zeros((P,) * (n_p - 1))
     for w in sorted(windows):
-        S = np.zeros(shape)
-        for a in w:
+        S = triple(w[0])
+        for a in w[1:]:
             S = S + triple(a)
-        best = np.maximum(best, S.max(axis=-1))
+        S = np.broadcast_to(S, (n,) + best.shape)
+        best = np.maximum(best, S.max(axis=0))
     return best
 
 
