@@ -13,7 +13,14 @@ time step (frame) ``a``; a net has ``N_T x N_M x N_P`` neurons. Implemented:
   (:func:`energy_gradient`);
 * binary neurons updated by eq. (4) with the paper's raised threshold
   ``2 A3 N_T + 0.035``, serial (asynchronous) or parallel sweeps, an iteration limit and
-  detection of convergence and oscillation (:func:`run_net`, batched over many nets);
+  detection of convergence and oscillation (:func:`run_net`, batched over many nets),
+  with two other readings of the update (no self term in term 3, exact energy change;
+  :func:`update_inputs`);
+* the fixed points of one-to-one assignments: an active neuron's input is exactly
+  ``A4`` times the sum of its D terms (:func:`neuron_distance_sums`), so an assignment
+  is a fixed point if and only if that stays below a limit set by the offset and the
+  update rule (:func:`fixed_point_limit`, :func:`is_fixed_point`), checked over all
+  assignments at once by :func:`assignment_max_sums`;
 * the linear-algebra form of the optical architecture (Sec. IV-V): the fixed connection
   matrices ``T1``-``T3`` of eq. (10) (:func:`connection_matrices`), the full rank-3 tensor
   and the tensor-matrix inner product ``y4 = D . x x^T`` of eqs. (11)-(12)
