@@ -336,3 +336,116 @@ def test_simulate_and_make_tracks_reject_negative_noise():
         nn.simulate(rng, 1, 1, "5")
     with pytest.raises(ValueError, match="noise_percent"):
         make_tracks(rng, 4, 5, noise_percent=-0.5)
+
+
+# ----------------------------------------------------------------------------- recording, fixed points
+def test_record_keeps_the_start_the_net_used():
+    rng = np.random.default_rng(3)
+    D = nn.distance_tensor(make_tracks(rng, 4, 5).positions / 256)
+    X0 = nn.initial_states(rng, 3, 4, 4, 5)
+    res = nn.run_net(D, X0, record=True, max_iter=5)
+    # history[0] is the analog start itself, not a thresholded copy (which would be all zero here)
+    np.testing.assert_array_equal(res.history[0], X0)
+    assert np.all(X0 < 0.5)
+    # history[s] is the state after sweep s: a one-sweep run from the same start ends at history[1]
+    one = nn.run_net(D, X0, max_iter=1)
+    np.testing.assert_array_equal(res.history[1], one.states)
+    np.testing.assert_array_equal(res.history[-1], res.states)
+
+
+def _all_assignments(n_t, n_p):
+    perms = list(itertools.permutations(range(n_t)))
+    for rest in itertools.product(range(len(perms)), repeat=n_p - 1):
+        yield rest, np.array([perms[0]] + [perms[k] for k in rest]).T
+
+
+@pytest.mark.parametrize("n_p", [3, 4, 5, 6])
+def test_assignment_max_sums_equals_brute_force(n_p):
+    rng = np.random.default_rng(n_p)
+    D = nn.distance_tensor(rng.uniform(-1, 1, (n_p, 3, 3)))
+    M = nn.assignment_max_sums(D)
+    assert M.shape == (6,) * (n_p - 1)
+    for rest, A in _all_assignments(3, n_p):
+        S = nn.neuron_distance_sums(A, D)
+        # S[i, a] is the term 4 input of target i's active neuron in frame a
+        X = nn.assignment_to_states(A, 3)
+        g4 = nn.energy_gradient(X, D, (0, 0, 0, 1))
+        np.testing.assert_allclose(g4[np.arange(3)[:, None], A, np.arange(n_p)[None, :]], S, atol=1e-12)
+        assert M[rest] == pytest.approx(S.max(), abs=1e-12)
+
+
+@pytest.mark.parametrize("rule", [dict(), dict(self_coupling=False), dict(exact_energy=True),
+                                  dict(offset=-0.035), dict(self_coupling=False, offset=-0.035)])
+def test_fixed_point_limit_decides_fixed_points_of_the_net(rule):
+    rng = np.random.default_rng(11)
+    scene = make_tracks(rng, 4, 5, noise_percent=5.0)
+    D = nn.distance_tensor(scene.positions / 2048)
+    lim = nn.fixed_point_limit(**rule)
+    M = nn.assignment_max_sums(D)
+    perms = list(itertools.permutations(range(4)))
+    picks = [tuple(rng.integers(0, 24, 4)) for _ in range(40)]
+    picks += [tuple(int(v) for v in np.unravel_index(np.argmin(M), M.shape))]  # most stable one
+    seen = set()
+    for p in picks:
+        A = np.array([perms[0]] + [perms[k] for k in p]).T
+        X = nn.assignment_to_states(A, 4)
+        expected = bool(M[p] < lim)
+        seen.add(expected)
+        assert nn.is_fixed_point(X, D, **rule) == expected
+        r = nn.run_net(D, X, max_iter=2, **rule)
+        assert (r.status[0] == "converged") == expected
+    if not rule:  # eq. (9) as printed: both cases occur at this unit, so the test can fail either way
+        assert seen == {True, False}
+
+
+def test_update_inputs_exact_energy_change():
+    D, X = _random_problem(21, 3, 4, 5)
+    g = nn.update_inputs(X, D, exact_energy=True)
+    for k in list(np.ndindex(X.shape))[::7]:
+        on, off = X.copy(), X.copy()
+        on[k], off[k] = 1, 0
+        assert g[k] == pytest.approx(nn.energy(on, D) - nn.energy(off, D), abs=1e-9)
+    no_self = nn.update_inputs(X, D, self_coupling=False)
+    np.testing.assert_allclose(no_self, nn.energy_gradient(X, D) - 30 * X)
+
+
+def test_no_self_term_has_inadmissible_fixed_points():
+    # noise-free tracks; target 0 also takes target 1's measurement in frame 0, target 1 has none there:
+    # the row conflict (+2 A2) is cancelled by the frame deficit seen without the self term (-2 A3)
+    rng = np.random.default_rng(2)
+    scene = make_tracks(rng, 4, 5, shuffle=False)
+    D = nn.distance_tensor(scene.positions / 256)
+    truth = np.tile(np.arange(4)[:, None], (1, 5))
+    X = nn.assignment_to_states(truth, 4)
+    X[1, 1, 0], X[0, 1, 0] = 0, 1
+    assert nn.states_to_assignment(X) is None
+    extra = D[0, 1, 0, 0]  # the new triple of target 0
+    big = 2 * 1.8 * extra / 0.035  # a unit large enough for the conflict to stay
+    Db = D / big
+    assert nn.is_fixed_point(X, Db, self_coupling=False)
+    assert not nn.is_fixed_point(X, Db)  # eq. (9) as printed removes the conflict
+    assert not nn.is_fixed_point(X, Db, exact_energy=True)
+
+
+def test_fixed_point_inputs_are_validated():
+    D, X = _random_problem(1, 3, 4, 5)
+    with pytest.raises(ValueError, match="binary"):
+        nn.is_fixed_point(X + 0.5, D)
+    with pytest.raises(ValueError, match="offset"):
+        nn.is_fixed_point(X, D, offset=np.nan)
+    with pytest.raises(TypeError, match="bools"):
+        nn.update_inputs(X, D, self_coupling="no")
+    with pytest.raises(TypeError, match="bools"):
+        nn.run_net(D, X, exact_energy=1)
+    with pytest.raises(ValueError, match="inactive"):
+        nn.fixed_point_limit(offset=100.0)
+    assert nn.fixed_point_limit(offset=-0.035) == -np.inf
+    assert nn.fixed_point_limit() == pytest.approx(0.035 / 1.8)
+    assert nn.fixed_point_limit(self_coupling=False) == pytest.approx(30.035 / 1.8)
+    assert nn.fixed_point_limit(exact_energy=True) == pytest.approx(15.035 / 1.8)
+    with pytest.raises(ValueError, match="N_T == N_M"):
+        nn.assignment_max_sums(D, n_targets=3)
+    with pytest.raises(ValueError, match="max_assignments"):
+        nn.assignment_max_sums(nn.distance_tensor(np.zeros((5, 4, 3))), max_assignments=1000)
+    with pytest.raises(ValueError, match="measurement indices"):
+        nn.neuron_distance_sums(np.full((4, 5), 7), nn.distance_tensor(np.zeros((5, 4, 3))))

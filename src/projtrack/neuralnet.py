@@ -13,7 +13,14 @@ time step (frame) ``a``; a net has ``N_T x N_M x N_P`` neurons. Implemented:
   (:func:`energy_gradient`);
 * binary neurons updated by eq. (4) with the paper's raised threshold
   ``2 A3 N_T + 0.035``, serial (asynchronous) or parallel sweeps, an iteration limit and
-  detection of convergence and oscillation (:func:`run_net`, batched over many nets);
+  detection of convergence and oscillation (:func:`run_net`, batched over many nets),
+  with two other readings of the update (no self term in term 3, exact energy change;
+  :func:`update_inputs`);
+* the fixed points of one-to-one assignments: an active neuron's input is exactly
+  ``A4`` times the sum of its D terms (:func:`neuron_distance_sums`), so an assignment
+  is a fixed point if and only if that stays below a limit set by the offset and the
+  update rule (:func:`fixed_point_limit`, :func:`is_fixed_point`), checked over all
+  assignments at once by :func:`assignment_max_sums`;
 * the linear-algebra form of the optical architecture (Sec. IV-V): the fixed connection
   matrices ``T1``-``T3`` of eq. (10) (:func:`connection_matrices`), the full rank-3 tensor
   and the tensor-matrix inner product ``y4 = D . x x^T`` of eqs. (11)-(12)
@@ -59,6 +66,11 @@ __all__ = [
     "energy_gradient_loops",
     "initial_states",
     "run_net",
+    "update_inputs",
+    "is_fixed_point",
+    "fixed_point_limit",
+    "neuron_distance_sums",
+    "assignment_max_sums",
     "states_to_assignment",
     "assignment_to_states",
     "is_correct_assignment",
@@ -123,7 +135,6 @@ def _check_int(value: object, name: str, minimum: int) -> int:
 
 def _check_D(D: object, batched: bool = False) -> np.ndarray:
     D = np.asarray(D, dtype=float)
-    nd = 5 if batched else 4
     if D.ndim not in ((4, 5) if batched else (4,)):
         raise ValueError(f"D must have shape {'(B,) ' if batched else ''}(N_P - 2, N_M, N_M, N_M), got {D.shape}")
     if not (D.shape[-1] == D.shape[-2] == D.shape[-3]) or D.shape[-4] < 1 or D.shape[-1] < 1:
@@ -132,7 +143,6 @@ def _check_D(D: object, batched: bool = False) -> np.ndarray:
         raise ValueError("D must be finite")
     if np.any(D < 0):
         raise ValueError("D must be >= 0 (it is a norm, eq. (7))")
-    del nd
     return D
 
 
@@ -389,8 +399,10 @@ class NetResult:
         confirming sweep that changed nothing is not counted); otherwise ``max_iter``.
     period : ndarray of int, shape (B,)
         Cycle length for oscillating nets, 1 for converged, 0 for wandering.
-    history : ndarray of int8, shape (n_sweeps + 1, B, N_T, N_M, N_P) or None
-        The states after each sweep (``history[0]`` is the thresholded start) if recorded.
+    history : ndarray of float, shape (n_sweeps + 1, B, N_T, N_M, N_P) or None
+        If recorded: ``history[0]`` is the start state exactly as the net used it (the
+        analog values of :func:`initial_states`, not thresholded), ``history[s]`` the
+        binary state after sweep ``s``.
     """
 
     states: np.ndarray
@@ -434,7 +446,7 @@ def initial_states(rng: np.random.Generator, n_runs: int, n_targets: int, n_meas
 
 def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None, *,
             offset: float = PAPER_OFFSET, max_iter: int = 50, mode: str = "serial",
-            self_coupling: bool = True, record: bool = False) -> NetResult:
+            self_coupling: bool = True, exact_energy: bool = False, record: bool = False) -> NetResult:
     """Evolve binary neurons by eqs. (4) and (9) until convergence, a cycle or ``max_iter``.
 
     Neuron ``k`` is set to 1 when ``dE/dX_k < offset`` and to 0 otherwise: the neuron's
@@ -459,8 +471,12 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     self_coupling : bool, default True
         Eq. (9) as printed: the frame sum of term 3 includes the neuron itself. With
         False it is left out (the usual Hopfield convention of no self-connection).
+    exact_energy : bool, default False
+        Instead of the first-order rule of eqs. (4)-(6), compare the exact energy change
+        ``E(X_k = 1) - E(X_k = 0)`` with ``offset`` (see :func:`update_inputs`); this
+        ignores ``self_coupling``.
     record : bool, default False
-        Keep the state after every sweep in ``NetResult.history``.
+        Keep the start and the state after every sweep in ``NetResult.history``.
 
     Returns
     -------
@@ -482,6 +498,8 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     max_iter = _check_int(max_iter, "max_iter", 1)
     if mode not in ("serial", "parallel"):
         raise ValueError(f"mode must be 'serial' or 'parallel', got {mode!r}")
+    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
+        raise TypeError("self_coupling and exact_energy must be bools")
     Db = np.broadcast_to(D, (B,) + D.shape[-4:]) if D.ndim == 4 else D
     X = X.copy()
     col = X.sum(axis=1)          # (B, N_M, N_P)
@@ -493,24 +511,24 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     D_mid = [[np.ascontiguousarray(Db[:, a, :, al]) for al in range(n_m)] for a in range(n_p - 2)]
     D_last = [[np.ascontiguousarray(Db[:, a, :, :, al]) for al in range(n_m)] for a in range(n_p - 2)]
 
-    history = []
-    prev_bin = None
+    # history[0] is the start exactly as the net used it (analog values allowed).
+    history = [X.copy()] if record else []
     converged_at = np.full(B, -1)
     snapshots = []
     for sweep in range(1, max_iter + 1):
         old = X.copy()
         if mode == "parallel":
-            g = energy_gradient(X, Db, c)
-            if not self_coupling:
-                g = g - a3 * X
+            g = update_inputs(X, Db, c, self_coupling=self_coupling, exact_energy=exact_energy)
             X = (g < offset).astype(float)
         else:
             for i in range(n_t):
                 for al in range(n_m):
                     for a in range(n_p):
                         xk = X[:, i, al, a]
-                        s = frame[:, a] if self_coupling else frame[:, a] - xk
+                        s = frame[:, a] if (self_coupling and not exact_energy) else frame[:, a] - xk
                         g = a1 * (col[:, al, a] - xk) + a2 * (row[:, i, a] - xk) + a3 * (s - n_t)
+                        if exact_energy:
+                            g = g + c.A3
                         if n_p >= 3:
                             t4 = 0.0
                             if a + 2 < n_p:
@@ -531,19 +549,14 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
             row = X.sum(axis=2)
             frame = X.sum(axis=(1, 2))
         binary = X.astype(np.int8)
-        if sweep == 1 and record:
-            history.append((old >= 0.5).astype(np.int8) if not np.all(np.isin(old, (0.0, 1.0)))
-                           else old.astype(np.int8))
         if record:
-            history.append(binary)
+            history.append(X.copy())
         unchanged = np.all(X == old, axis=(1, 2, 3))
         newly = unchanged & (converged_at < 0)
         converged_at[newly] = sweep - 1
         snapshots.append(binary.reshape(B, -1))
-        prev_bin = binary
         if np.all(converged_at >= 0):
             break
-    del prev_bin
     status = np.where(converged_at >= 0, "converged", "wandering").astype(object)
     iterations = np.where(converged_at >= 0, converged_at, max_iter)
     period = np.where(converged_at >= 0, 1, 0)
@@ -559,6 +572,196 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
         return NetResult(X[0].astype(np.int8), status[:1], iterations[:1], period[:1],
                          hist[:, 0] if hist is not None else None)
     return NetResult(X.astype(np.int8), status, iterations, period, hist)
+
+
+def update_inputs(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None, *,
+                  self_coupling: bool = True, exact_energy: bool = False) -> np.ndarray:
+    """The quantity each neuron compares with the offset, under three readings of eq. (4).
+
+    A neuron is switched on when its value here is below ``offset`` (0.035 in Sec. VI).
+
+    * ``self_coupling=True`` (eq. (9) as printed): ``dE/dX`` of :func:`energy_gradient`,
+      whose term 3 counts the neuron itself in the frame sum.
+    * ``self_coupling=False``: the same without the neuron in the frame sum,
+      ``dE/dX - 2 A3 X``.
+    * ``exact_energy=True``: the exact change of eq. (8) when the neuron goes from 0 to 1,
+      ``E(X_k = 1) - E(X_k = 0) = dE/dX - 2 A3 X + A3`` (terms 1, 2 and 4 do not contain
+      ``X_k`` twice; term 3 adds ``A3 ((s + 1 - N_T)^2 - (s - N_T)^2)``, ``s`` the frame sum
+      without the neuron). Overrides ``self_coupling``.
+
+    Parameters
+    ----------
+    X : array_like, shape (..., N_T, N_M, N_P)
+        Binary (or analog) states.
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M) or broadcastable batch
+    coefficients : Coefficients or (A1, A2, A3, A4), default the paper's
+    self_coupling, exact_energy : bool
+
+    Returns
+    -------
+    ndarray, same shape as X
+    """
+    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
+        raise TypeError("self_coupling and exact_energy must be bools")
+    c = _as_coefficients(coefficients)
+    g = energy_gradient(X, D, c)
+    X = np.asarray(X, dtype=float)
+    if exact_energy:
+        return g - 2 * c.A3 * X + c.A3
+    if not self_coupling:
+        return g - 2 * c.A3 * X
+    return g
+
+
+def is_fixed_point(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None, *,
+                   offset: float = PAPER_OFFSET, self_coupling: bool = True,
+                   exact_energy: bool = False) -> np.ndarray | bool:
+    """Whether binary states are fixed points of the update rule (no neuron would change).
+
+    A state is a fixed point when every neuron already equals ``[input < offset]`` with
+    the input of :func:`update_inputs`; then serial and parallel sweeps both leave it
+    unchanged.
+
+    Parameters
+    ----------
+    X : array_like of 0/1, shape (..., N_T, N_M, N_P)
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M) or broadcastable batch
+    coefficients, offset, self_coupling, exact_energy
+        As in :func:`run_net`.
+
+    Returns
+    -------
+    bool or ndarray of bool, shape X.shape[:-3]
+    """
+    Xa = np.asarray(X)
+    if not np.all(np.isin(Xa, (0, 1))):
+        raise ValueError("X must be binary (0/1)")
+    if not np.isfinite(offset):
+        raise ValueError(f"offset must be finite, got {offset}")
+    g = update_inputs(Xa, D, coefficients, self_coupling=self_coupling, exact_energy=exact_energy)
+    out = np.all((g < offset) == (Xa == 1), axis=(-3, -2, -1))
+    return bool(out) if np.ndim(out) == 0 else out
+
+
+def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None, *, offset: float = PAPER_OFFSET,
+                      self_coupling: bool = True, exact_energy: bool = False) -> float:
+    """Largest summed distance an active neuron of a one-to-one assignment may carry.
+
+    In a one-to-one assignment state (``N_T = N_M``: every target one measurement and every
+    measurement one target in every frame) terms 1 and 2 of eq. (9) vanish for an active
+    neuron and term 3 is 0 (as printed), ``-2 A3`` (without the self term) or ``-A3``
+    (exact energy change), so its input is ``A4 S`` plus that constant, where ``S`` is the
+    sum of its D terms (:func:`neuron_distance_sums`). An inactive neuron sees at least
+    ``2 A1 + 2 A2`` and stays off. The assignment is therefore a fixed point if and only if
+    ``max S < limit`` with ``limit = (offset + {0, 2 A3, A3}) / A4``, returned here (in the
+    unit of D; ``-inf`` when no assignment can be a fixed point).
+
+    Raises
+    ------
+    ValueError
+        If ``2 A1 + 2 A2`` plus the inactive neuron's term 3 does not exceed ``offset``
+        (then inactive neurons could switch on and the statement above does not hold).
+    """
+    c = _as_coefficients(coefficients)
+    if not np.isfinite(offset):
+        raise ValueError(f"offset must be finite, got {offset}")
+    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
+        raise TypeError("self_coupling and exact_energy must be bools")
+    shift = c.A3 if exact_energy else (0.0 if self_coupling else 2 * c.A3)
+    inactive = 2 * c.A1 + 2 * c.A2 + (c.A3 if exact_energy else 0.0)
+    if inactive < offset:
+        raise ValueError(f"offset {offset} is not below 2 A1 + 2 A2 (+ A3) = {inactive}: inactive neurons "
+                         "of an assignment could switch on")
+    if c.A4 == 0:
+        return float("inf") if offset + shift > 0 else float("-inf")
+    limit = (offset + shift) / c.A4
+    return float(limit) if limit > 0 else float("-inf")
+
+
+def neuron_distance_sums(assignment: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """``S[i, a]``: the summed eq. (7) distances that neuron ``(i, assignment[i, a], a)`` sees.
+
+    In the assignment state, term 4 of eq. (9) for the active neuron of target ``i`` in
+    frame ``a`` is ``A4 S[i, a]``: the D values of the (up to three) triples of frames of
+    target ``i``'s track that contain frame ``a``.
+
+    Parameters
+    ----------
+    assignment : array_like of int, shape (N_T, N_P)
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+
+    Returns
+    -------
+    ndarray, shape (N_T, N_P)
+    """
+    D = _check_D(D)
+    A = np.asarray(assignment)
+    assignment_cost(A, D)  # validates shape, dtype and range
+    n_q = D.shape[0]
+    a = np.arange(n_q)
+    trip = D[a[None, :], A[:, :-2], A[:, 1:-1], A[:, 2:]]  # (N_T, N_P - 2)
+    S = np.zeros(A.shape)
+    S[:, :-2] += trip
+    S[:, 1:-1] += trip
+    S[:, 2:] += trip
+    return S
+
+
+def assignment_max_sums(D: np.ndarray, n_targets: int | None = None, max_assignments: int = 2_000_000
+                        ) -> np.ndarray:
+    """``max_{i,a} S[i, a]`` (:func:`neuron_distance_sums`) for every one-to-one assignment.
+
+    Exhaustive over all ``(N_T!)^(N_P - 1)`` assignments with frame 0 labelled by the
+    identity (targets are interchangeable): ``24^4 = 331776`` for the paper's case.
+    With :func:`fixed_point_limit` this says exactly which assignments are fixed points.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M), ``N_M = N_T``
+    n_targets : int, optional
+    max_assignments : int
+        Refuse larger enumerations.
+
+    Returns
+    -------
+    ndarray, shape (N_T!,) * (N_P - 1)
+        Entry ``[p_1, ..., p_{N_P-1}]``: frame ``a`` assigns measurement
+        ``perms[p_a][i]`` to target ``i``, ``perms`` the permutations of ``range(N_T)`` in
+        lexicographic order (:func:`itertools.permutations`).
+    """
+    D, n = _check_square(D, n_targets)
+    P = math.factorial(n)
+    n_q = D.shape[0]
+    n_p = n_q + 2
+    max_assignments = _check_int(max_assignments, "max_assignments", 1)
+    if P ** (n_p - 1) > max_assignments:
+        raise ValueError(f"{P}^{n_p - 1} assignments exceed max_assignments = {max_assignments}")
+    perms, flat = _permutation_triples(n)
+    # trip[a, i]: D of triple a for target i under the permutations of frames a..a+2 (target axis first,
+    # so that the maximum over targets is an elementwise maximum of contiguous arrays)
+    trip = np.moveaxis(D.reshape(n_q, -1)[:, flat], -1, 1)  # (N_P - 2, N_T, P, P, P)
+    # S of frame f for target i: sum of the triples a with a <= f <= a + 2; frame 0 is the identity.
+
+    def triple(a: int) -> np.ndarray:
+        t = trip[a][:, 0] if a == 0 else trip[a]     # frame 0 fixed: drop its axis
+        first = max(a - 1, 0)                         # first free frame axis it spans
+        idx = [None] * (n_p - 1)
+        for k in range(first, a + 2):
+            idx[k] = slice(None)
+        return t[(slice(None),) + tuple(idx)]
+
+    # D >= 0, so a frame whose triples are a subset of another frame's never holds the maximum:
+    # only the maximal windows of triples need summing (one window for N_P = 5).
+    windows = {tuple(range(max(0, f - 2), min(f, n_q - 1) + 1)) for f in range(n_p)}
+    windows = [w for w in windows if not any(set(w) < set(v) for v in windows)]
+    best = np.zeros((P,) * (n_p - 1))
+    for w in sorted(windows):
+        S = triple(w[0])
+        for a in w[1:]:
+            S = S + triple(a)
+        S = np.broadcast_to(S, (n,) + best.shape)
+        best = np.maximum(best, S.max(axis=0))
+    return best
 
 
 # ----------------------------------------------------------------------------- assignments
@@ -1038,7 +1241,7 @@ def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = No
 def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_percent: float, *,
              n_targets: int = 4, n_frames: int = 5, unit: float = 256.0,
              coefficients: Coefficients | Sequence[float] | None = None, offset: float = PAPER_OFFSET,
-             max_iter: int = 50, mode: str = "serial", self_coupling: bool = True,
+             max_iter: int = 50, mode: str = "serial", self_coupling: bool = True, exact_energy: bool = False,
              perturbation: float = 0.1, references: bool = True,
              exact_max_targets: int = 4) -> dict[str, np.ndarray]:
     """The Sec. VI experiment: ``n_datasets`` track sets, ``n_starts`` net starts each.
@@ -1057,7 +1260,7 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
     noise_percent : float
         Position noise ``n >= 0`` (% of the distance from the centre), see
         :func:`projtrack.scenes.tracks3d.perturb`.
-    n_targets, n_frames, unit, coefficients, offset, max_iter, mode, self_coupling, perturbation
+    n_targets, n_frames, unit, coefficients, offset, max_iter, mode, self_coupling, exact_energy, perturbation
         As in :func:`projtrack.scenes.tracks3d.make_tracks`, :func:`initial_states` and
         :func:`run_net`.
     references : bool
@@ -1094,7 +1297,7 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
     D = distance_tensor(pos)
     X0 = initial_states(rng, n_datasets * n_starts, n_targets, n_targets, n_frames, perturbation)
     res = run_net(np.repeat(D, n_starts, axis=0), X0, coefficients, offset=offset, max_iter=max_iter,
-                  mode=mode, self_coupling=self_coupling)
+                  mode=mode, self_coupling=self_coupling, exact_energy=exact_energy)
     dataset = np.repeat(np.arange(n_datasets), n_starts)
     correct = np.array([res.status[k] == "converged" and
                         is_correct_assignment(states_to_assignment(res.states[k]), scenes[dataset[k]].labels)
