@@ -398,3 +398,27 @@ def test_mismatched_sizes_are_allowed_but_classifier_sizes_checked():
     assert np.allclose(C.projection_correlation(f, g, 90), C.integrated_correlation(f, g, 90))
     with pytest.raises(ValueError, match="references"):
         C.space_integrating_correlator(np.ones((2, 5)), np.ones((3, 3, 4)))
+
+
+def test_circular_correlate_matches_direct_cyclic_sum_and_eq3():
+    rng = np.random.default_rng(3)
+    f, g = rng.normal(size=(6, 8)), rng.normal(size=(6, 8))
+    direct = np.zeros((6, 8))
+    for a in range(6):
+        for b in range(8):
+            direct[a, b] = np.sum(f * np.roll(g, (a, b), axis=(0, 1)))
+    c = C.circular_correlate(f, g)
+    assert np.allclose(c, np.fft.fftshift(direct))
+    assert np.isclose(C.circular_correlate(f, f)[3, 4], np.sum(f * f))  # zero lag at the centre
+    # Eq. (3) on the torus: projecting the cyclic plane = cyclic correlation of projections
+    assert np.allclose(c.sum(axis=0), C.circular_correlate(f.sum(axis=0), g.sum(axis=0)))
+    assert np.allclose(c.sum(axis=1), C.circular_correlate(f.sum(axis=1), g.sum(axis=1)))
+
+
+@pytest.mark.parametrize("f, g, exc", [
+    (np.ones((4, 4)), np.ones((4, 5)), ValueError), (np.ones(4), np.ones((4, 4)), ValueError),
+    (np.ones((2, 2, 2)), np.ones((2, 2, 2)), ValueError), (np.array(["a", "b"]), np.ones(2), TypeError),
+    (np.array([1.0, np.nan]), np.ones(2), ValueError)])
+def test_circular_correlate_rejects_bad_inputs(f, g, exc):
+    with pytest.raises(exc):
+        C.circular_correlate(f, g)

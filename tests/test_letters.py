@@ -23,12 +23,12 @@ def test_letters_are_central_and_within_paper_limits():
     assert np.sum((counts >= 40) & (counts <= 75)) >= 13  # "most letters ... 40-75"
     rows = np.nonzero(a.any(axis=2))
     cols = np.nonzero(a.any(axis=1))
-    assert rows[1].min() >= 9 and rows[1].max() <= 22
-    assert cols[1].min() >= 9 and cols[1].max() <= 22
+    assert rows[1].min() >= 8 and rows[1].max() <= 23  # cap height 11, centred; M and W are wider
+    assert cols[1].min() >= 8 and cols[1].max() <= 23
 
 
-def test_default_rule_is_the_chosen_rule():
-    assert letters.choose_rule() == (letters.CAP_HEIGHT, letters.MIN_COVERAGE)
+def test_description_rule_is_the_thicker_one():
+    assert letters.choose_rule() == (10.0, 1.0 / 64.0)
 
 
 def test_choose_rule_logic():
@@ -97,3 +97,42 @@ def test_noisy_bad_inputs():
         letters.noisy(np.array([[np.nan]]), 0.1, rng)
     with pytest.raises(ValueError):
         letters.pixel_counts(np.ones((3, 3)))
+
+
+def test_default_rule_is_calibrated_on_the_43_pixel_c():
+    assert letters.calibrate_rule() == (letters.CAP_HEIGHT, letters.MIN_COVERAGE)
+    assert letters.render_letter("C").sum() == 43
+    # the description-only rule differs: a thicker C
+    cap, cov = letters.choose_rule()
+    assert letters.render_letter("C", cap_height=cap, min_coverage=cov).sum() != 43
+
+
+def test_calibrate_rule_logic_and_errors():
+    grid = [{"cap_height": 10.0, "min_coverage": 0.5, "n_in_40_75": 20, "max": 90, "C": 50},
+            {"cap_height": 11.0, "min_coverage": 0.25, "n_in_40_75": 9, "max": 90, "C": 43},
+            {"cap_height": 12.0, "min_coverage": 0.25, "n_in_40_75": 12, "max": 95, "C": 43},
+            {"cap_height": 12.0, "min_coverage": 0.5, "n_in_40_75": 25, "max": 130, "C": 43}]
+    assert letters.calibrate_rule(grid) == (12.0, 0.25)
+    assert letters.calibrate_rule(grid, pixels=50) == (10.0, 0.5)
+    with pytest.raises(ValueError, match="no candidate"):
+        letters.calibrate_rule(grid, pixels=44)
+    with pytest.raises(ValueError, match="letter"):
+        letters.calibrate_rule(grid, letter="c")
+    with pytest.raises(ValueError, match="key"):
+        letters.calibrate_rule(grid, letter="P")
+    with pytest.raises(TypeError):
+        letters.calibrate_rule(grid, pixels=43.0)
+
+
+def test_noise_extent_limits_the_noise_to_the_centre():
+    rng = np.random.default_rng(0)
+    img = np.zeros((32, 32))
+    x = letters.noisy(img, 1.0, rng, n_draws=3, zero_mean=False, extent=10)
+    assert np.all(x[:, :11, :] == 0) and np.all(x[:, 21:, :] == 0) and np.all(x[:, :, :11] == 0)
+    assert np.all(x[:, 11:21, 11:21] != 0)
+    full = letters.noisy(img, 1.0, np.random.default_rng(0), zero_mean=False, extent=32)
+    assert np.array_equal(full, letters.noisy(img, 1.0, np.random.default_rng(0), zero_mean=False))
+    with pytest.raises(ValueError, match="extent"):
+        letters.noisy(img, 1.0, rng, extent=33)
+    with pytest.raises(ValueError, match="extent"):
+        letters.noisy(img, 1.0, rng, extent=0)

@@ -9,6 +9,8 @@ D. P. Casasent and J.-H. Song, "Optical projection correlations", Appl. Opt. 27,
 * :func:`correlate1d`, :func:`correlate2d`: full bipolar (signed) cross-correlations by
   FFT; :func:`projection_correlation` (1-D correlation of two projections) and
   :func:`integrated_correlation` (projection of the 2-D correlation), equal by Eq. (3);
+  :func:`circular_correlate`, the cyclic (FFT-plane) correlation of two equal-size frames,
+  whose plane has the size of the frame (the "64 x 64 correlation plane" of Sec. III.A);
 * :func:`psr`, :func:`snr`, :func:`peak_stats`: the measures of Eqs. (5a)-(5b) with the
   windows of Sec. III.A; :func:`zero_mean`, :func:`normalize_energy` (Sec. III.B-C);
 * :class:`ProjectionCorrelationClassifier`: a bank of projection-correlation filters per
@@ -68,7 +70,7 @@ from scipy.ndimage import maximum_filter
 __all__ = [
     "zero_mean", "normalize_energy", "is_lattice_angle", "projection_axis", "project",
     "project_stack", "projection_spectrum", "fourier_slice", "correlate1d", "correlate2d",
-    "projection_correlation", "integrated_correlation", "psr", "snr", "snr_db", "peak_stats",
+    "projection_correlation", "integrated_correlation", "circular_correlate", "psr", "snr", "snr_db", "peak_stats",
     "CorrelationFilterBank", "ProjectionCorrelationClassifier", "Correlation2DClassifier", "backprojection_min",
     "locate_objects", "space_integrating_correlator", "time_integrating_correlator",
 ]
@@ -425,6 +427,41 @@ def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, re
         ok = (idx >= 0) & (idx < len(c))
         out[ok] = c[idx[ok]]
     return (out, r_out) if return_r else out
+
+
+def circular_correlate(f: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """Cyclic bipolar correlation of two equal-size frames (1-D or 2-D), by FFT.
+
+    ``c[m] = sum_n f[n] g[(n - m) mod N]`` along every axis, shifted so that zero lag is
+    at index ``N // 2`` of each axis (the centre of the plane). This is the correlation an
+    FFT correlator of frame size N produces: its plane has the size of the frame. The
+    projection of the cyclic 2-D correlation at 0 or 90 degrees equals the cyclic 1-D
+    correlation of the projections (Eq. (3) on the torus).
+
+    Parameters
+    ----------
+    f, g : array_like
+        Input and reference, both 1-D or both 2-D, of the same shape.
+
+    Raises
+    ------
+    TypeError
+        If either is not a real numeric array.
+    ValueError
+        If they are not both 1-D or both 2-D, differ in shape, are empty or not finite.
+    """
+    fa = np.asarray(f)
+    ga = np.asarray(g)
+    if fa.ndim == 1 and ga.ndim == 1:
+        fa, ga = _as_signal(fa, "f"), _as_signal(ga, "g")
+    elif fa.ndim == 2 and ga.ndim == 2:
+        fa, ga = _as_image(fa, "f"), _as_image(ga, "g")
+    else:
+        raise ValueError(f"f and g must both be 1-D or both 2-D, got shapes {fa.shape} and {ga.shape}")
+    if fa.shape != ga.shape:
+        raise ValueError(f"f and g must have the same shape for a cyclic correlation, got {fa.shape} and {ga.shape}")
+    c = np.real(np.fft.ifftn(np.fft.fftn(fa) * np.conj(np.fft.fftn(ga))))
+    return np.fft.fftshift(c)
 
 
 def integrated_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float) -> np.ndarray:

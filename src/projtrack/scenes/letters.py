@@ -9,20 +9,23 @@ synthesizes stand-ins from the Times-like STIX font that matplotlib ships
 (``STIXGeneral.ttf``; nothing is downloaded), with one size rule for all letters:
 
 * the glyph outline is scaled so that the font's **cap height** (the height of ``H``)
-  is ``cap_height`` pixels (default 10, the "central 10 x 10 pixels" of the text);
+  is ``cap_height`` pixels (default 11, see below);
 * each glyph's bounding box is centred on the centre of the frame;
 * a pixel is on when at least a fraction ``min_coverage`` of its area lies inside the
   glyph, measured by ``supersample x supersample`` point sampling of the pixel.
 
-The pair (``cap_height``, ``min_coverage``) is chosen once for all letters by
-:func:`choose_rule` from the text's description alone: over the small grid
-``cap_height`` in {10, 11, 12} (the "central 10 x 10" to 12 x 12 pixels) and
-``min_coverage`` in {1/2, 1/4, any sub-sample}, take the rule that puts the most letters
-in the 40-75 on-pixel range with every letter under 110, ties going to the smallest
-cap height (the text's "central 10 x 10"). The result, cap height 10 with a pixel on as
-soon as the glyph touches it (``min_coverage = 1/64``), is the default. No letter is
-adjusted individually; glyphs wider than tall (``M``, ``W``) extend a little beyond 10
-columns, as in any Times font.
+The pair (``cap_height``, ``min_coverage``) is fixed once for all letters by
+:func:`calibrate_rule` on a number the paper gives: the letter C "has 43 nonzero
+pixels" (Sec. III.B). Over the small grid ``cap_height`` in {10, 11, 12} (the "central
+10 x 10" to 12 x 12 pixels) and ``min_coverage`` in {1/2, 1/4, any sub-sample}, the rules
+that fit the text's description (every letter under 110 pixels) and give C exactly 43
+pixels are kept, ties going to the most letters in the 40-75 range. The result, cap
+height 11 with a pixel on when a quarter of its area is inside the glyph
+(``min_coverage = 1/4``), is the default; it also puts 22 of the 26 letters in 40-75.
+:func:`choose_rule`, the rule picked from the description alone (most letters in
+40-75, ties to the smallest cap height), gives a thicker 55-pixel C and is kept for
+comparison. No letter is adjusted individually; glyphs wider than tall (``M``, ``W``)
+extend a little beyond the cap height, as in any Times font.
 """
 
 from __future__ import annotations
@@ -38,16 +41,16 @@ from matplotlib.path import Path as MplPath
 from matplotlib.textpath import TextPath
 
 __all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "font_path", "render_letter", "alphabet", "noisy",
-           "pixel_counts", "rule_grid", "choose_rule"]
+           "pixel_counts", "rule_grid", "choose_rule", "calibrate_rule"]
 
 #: The 26 upper-case letters in alphabetical order.
 LETTERS: str = string.ascii_uppercase
 
-#: Default cap height in pixels (chosen by :func:`choose_rule`).
-CAP_HEIGHT: float = 10.0
+#: Default cap height in pixels (calibrated by :func:`calibrate_rule` on the 43-pixel C).
+CAP_HEIGHT: float = 11.0
 
-#: Default minimum covered fraction of a pixel's area for it to be on (one of 64 sub-samples).
-MIN_COVERAGE: float = 1.0 / 64.0
+#: Default minimum covered fraction of a pixel's area for it to be on (calibrated likewise).
+MIN_COVERAGE: float = 0.25
 
 
 def font_path() -> Path:
@@ -154,7 +157,8 @@ def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
     -------
     list of dict
         One dict per (cap height, coverage) with keys ``cap_height``, ``min_coverage``,
-        ``n_in_40_75`` (letters with 40-75 on-pixels), ``min``, ``median``, ``max``.
+        ``n_in_40_75`` (letters with 40-75 on-pixels), ``min``, ``median``, ``max`` and
+        ``C`` (on-pixels of the letter C, the count Sec. III.B gives).
     """
     out = []
     for cap in cap_heights:
@@ -163,7 +167,7 @@ def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
             out.append({"cap_height": float(cap), "min_coverage": float(cov),
                         "n_in_40_75": int(np.sum((counts >= 40) & (counts <= 75))),
                         "min": int(counts.min()), "median": float(np.median(counts)),
-                        "max": int(counts.max())})
+                        "max": int(counts.max()), "C": int(counts[LETTERS.index("C")])})
     return out
 
 
@@ -181,6 +185,48 @@ def choose_rule(grid: list[dict[str, float]] | None = None) -> tuple[float, floa
     return best["cap_height"], best["min_coverage"]
 
 
+def calibrate_rule(grid: list[dict[str, float]] | None = None, *, letter: str = "C",
+                   pixels: int = 43) -> tuple[float, float]:
+    """The size rule calibrated on a pixel count the paper gives (Sec. III.B: C has 43).
+
+    Among the rules of ``grid`` that keep every letter under 110 pixels (Sec. III.A), keep
+    those whose ``letter`` has exactly ``pixels`` on-pixels; ties go to the most letters
+    in the 40-75 range, then the smallest cap height, then the largest coverage threshold.
+
+    Parameters
+    ----------
+    grid : list of dict, optional
+        Output of :func:`rule_grid` (computed if omitted). For a ``letter`` other than
+        ``"C"`` each dict needs the key ``letter``; otherwise the key ``"C"`` is used.
+    letter : str, default "C"
+        The letter whose count pins the rule.
+    pixels : int, default 43
+        Its number of on-pixels.
+
+    Returns
+    -------
+    tuple of float
+        ``(cap_height, min_coverage)``.
+
+    Raises
+    ------
+    ValueError
+        If ``letter`` is not an upper-case letter, ``pixels`` is not a positive int, a
+        dict lacks the letter's count, or no rule of the grid gives the count.
+    """
+    if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
+        raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
+    pixels = _check_int(pixels, "pixels", 1)
+    grid = rule_grid() if grid is None else grid
+    if any(letter not in g for g in grid):
+        raise ValueError(f"every rule of the grid needs the on-pixel count of {letter!r} (key {letter!r})")
+    ok = [g for g in grid if g["max"] < 110 and int(g[letter]) == pixels]
+    if not ok:
+        raise ValueError(f"no candidate rule gives {letter!r} exactly {pixels} pixels with every letter under 110")
+    best = max(ok, key=lambda g: (g["n_in_40_75"], -g["cap_height"], g["min_coverage"]))
+    return best["cap_height"], best["min_coverage"]
+
+
 def pixel_counts(images: np.ndarray) -> np.ndarray:
     """Number of nonzero pixels of each image of a stack ``(n, H, W)``."""
     images = np.asarray(images)
@@ -190,7 +236,7 @@ def pixel_counts(images: np.ndarray) -> np.ndarray:
 
 
 def noisy(images: np.ndarray, sigma: float, rng: np.random.Generator, *, n_draws: int = 1,
-          distribution: str = "gaussian", zero_mean: bool = True) -> np.ndarray:
+          distribution: str = "gaussian", zero_mean: bool = True, extent: int | None = None) -> np.ndarray:
     """Add white noise of standard deviation ``sigma`` to images, as in Sec. III.B-C.
 
     Parameters
@@ -210,6 +256,10 @@ def noisy(images: np.ndarray, sigma: float, rng: np.random.Generator, *, n_draws
     zero_mean : bool, default True
         Subtract from each noisy image its own mean ("the full image plus noise made to
         be zero mean. (This is what an optical system does.)", Sec. III.B).
+    extent : int, optional
+        Add noise only inside the central ``extent x extent`` pixels of each image (the
+        report does not say how far its noise extends); ``None`` (default) fills the
+        whole image. With ``zero_mean`` the mean is still removed over the whole image.
 
     Returns
     -------
@@ -236,6 +286,15 @@ def noisy(images: np.ndarray, sigma: float, rng: np.random.Generator, *, n_draws
         noise = rng.uniform(-half, half, size=shape)
     else:
         raise ValueError(f"distribution must be 'gaussian' or 'uniform', got {distribution!r}")
+    if extent is not None:
+        extent = _check_int(extent, "extent", 1)
+        H, W = arr.shape[-2:]
+        if extent > min(H, W):
+            raise ValueError(f"extent must be at most the image side {min(H, W)}, got {extent}")
+        mask = np.zeros((H, W))
+        r0, c0 = (H - extent) // 2, (W - extent) // 2
+        mask[r0:r0 + extent, c0:c0 + extent] = 1.0
+        noise = noise * mask
     out = arr[None] + noise
     if zero_mean:
         out -= out.mean(axis=(-2, -1), keepdims=True)
