@@ -798,6 +798,10 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
         sample cannot be taken for the track; the confirmation still uses
         ``confirm_fraction``. Not the paper's rule.
 
+    Returns
+    -------
+    ProjectionResult
+
     Raises
     ------
     ValueError
