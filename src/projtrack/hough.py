@@ -410,12 +410,29 @@ def _wraps(rhos: np.ndarray, thetas: np.ndarray) -> bool:
 
 
 def local_average(H: object, size: int = 5, *, rhos: object | None = None,
-                  thetas_deg: object | None = None) -> np.ndarray:
+                  thetas_deg: object | None = None, exclude_ridge: int | None = None) -> np.ndarray:
     """The ``size x size`` local average of the Hough plane (the defocused HT of Sec. VII).
 
     Outside the plane ``rho`` is padded with zeros; ``theta`` wraps around with
     ``(rho, theta + 180) = (-rho, theta)`` when ``rhos`` and ``thetas_deg`` show that the
     plane covers [0, 180) with a symmetric ``rho`` axis, and is zero-padded otherwise.
+
+    Parameters
+    ----------
+    H : array_like, 2-D
+        Hough plane, ``rho`` along axis 0 and ``theta`` along axis 1.
+    size : int, default 5
+        Odd side of the window.
+    rhos, thetas_deg : array_like, keyword-only, optional
+        The plane's axes (used only to decide the wrap-around in ``theta``).
+    exclude_ridge : int or None, keyword-only
+        ``None`` (default, the paper's defocused HT): the mean over the whole window.
+        An int ``r >= 0`` with ``2 r + 1 < size``: the mean over the window without the
+        ``2 r + 1`` rows of ``rho`` bins centred on the cell, i.e. without the ridge
+        that a line's own votes form along ``theta`` at its ``rho`` (every point of a
+        line votes in each ``theta`` column of the window, close to the line's ``rho``).
+        What remains measures the background bias of the plane, not the line itself.
+        Not the paper's rule; see :func:`detect_peaks`.
     """
     Hf = np.asarray(H, dtype=float)
     if Hf.ndim != 2:
@@ -423,6 +440,11 @@ def local_average(H: object, size: int = 5, *, rhos: object | None = None,
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1 or size % 2 == 0:
         raise ValueError(f"size must be a positive odd int, got {size!r}")
     k = size // 2
+    if exclude_ridge is not None:
+        if isinstance(exclude_ridge, bool) or not isinstance(exclude_ridge, (int, np.integer)) \
+                or exclude_ridge < 0 or 2 * exclude_ridge + 1 >= size:
+            raise ValueError(f"exclude_ridge must be None or an int r >= 0 with 2 r + 1 < size ({size}), "
+                             f"got {exclude_ridge!r}")
     wrap = False
     if rhos is not None and thetas_deg is not None:
         _, r, t = _check_plane(Hf, rhos, thetas_deg)
@@ -434,7 +456,14 @@ def local_average(H: object, size: int = 5, *, rhos: object | None = None,
         padded = np.pad(Hf, ((0, 0), (k, k)))
     padded = np.pad(padded, ((k, k), (0, 0)))
     avg = ndimage.uniform_filter(padded, size=size, mode="constant", cval=0.0)
-    return avg[k:k + Hf.shape[0], k:k + Hf.shape[1]]
+    if exclude_ridge is None:
+        return avg[k:k + Hf.shape[0], k:k + Hf.shape[1]]
+    r = int(exclude_ridge)
+    ridge = ndimage.uniform_filter(padded, size=(2 * r + 1, size), mode="constant", cval=0.0)
+    total = avg * size * size - ridge * (2 * r + 1) * size
+    out = total / ((size - 2 * r - 1) * size)
+    out = out[k:k + Hf.shape[0], k:k + Hf.shape[1]]
+    return np.where(np.abs(out) < 1e-9 * max(1.0, float(np.abs(Hf).max(initial=0.0))), 0.0, out)
 
 
 @dataclass(frozen=True)
@@ -461,8 +490,16 @@ class HoughPeak:
 
 
 def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0,
-                 bridge: float = 1.5, min_votes: float = 3.0, size: int = 5) -> list[HoughPeak]:
+                 bridge: float = 1.5, min_votes: float = 3.0, size: int = 5,
+                 exclude_ridge: int | None = None) -> list[HoughPeak]:
     """Peak detector of Sec. VII with a minimum-vote floor; see :func:`find_peaks`.
+
+    ``exclude_ridge`` (default ``None``, the paper's rule) is passed to
+    :func:`local_average`: with ``exclude_ridge=1`` the ratio compares a cell with the
+    mean of its ``5 x 5`` window without the three ``rho`` rows through it, i.e. with the
+    background of the plane rather than with the line's own ridge. For an ideal line of
+    ``N`` votes on a bias ``b`` the paper's ratio is ``N / (N/5 + b) < 5``, the
+    ridge-free one ``N / b``.
 
     Returns
     -------
@@ -477,9 +514,10 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     if isinstance(min_votes, bool) or not isinstance(min_votes, (int, float, np.integer, np.floating)) \
             or not np.isfinite(min_votes) or min_votes < 0:
         raise ValueError(f"min_votes must be a non-negative number, got {min_votes!r}")
-    avg = local_average(Hf, size, rhos=r, thetas_deg=t)
+    avg = local_average(Hf, size, rhos=r, thetas_deg=t, exclude_ridge=exclude_ridge)
     with np.errstate(divide="ignore", invalid="ignore"):
-        R = np.where(avg > 0, Hf / np.where(avg > 0, avg, 1.0), 0.0)
+        # an empty neighbourhood (possible only with exclude_ridge) under a voted cell: infinite ratio
+        R = np.where(avg > 0, Hf / np.where(avg > 0, avg, 1.0), np.where(Hf > 0, np.inf, 0.0))
     ok = Hf >= max(float(min_votes), np.finfo(float).tiny)
     strong = (R > ratio) & ok
     weak = (R > bridge) & ok
@@ -729,7 +767,8 @@ class ProjectionResult:
 
 def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
                           confirm_fraction: float = 0.75,
-                          zero_value: float = PULSE_ZERO_VALUE) -> ProjectionResult:
+                          zero_value: float = PULSE_ZERO_VALUE,
+                          stop_fraction: float | None = None) -> ProjectionResult:
     """Increase ``dx'`` until the 75 % rule holds, then apply Eq. (5) (Sec. III, Fig. 1(c)).
 
     The ``dx' = 1`` projection is summed in pairs (``dx' = 2, 4, 8, ...``) up to
@@ -751,6 +790,13 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
         The paper's 75 % rule.
     zero_value : float, keyword-only, default -10
         Value of empty samples in the correlation.
+    stop_fraction : float or None, keyword-only
+        Fraction of the ones the best run must hold for the doubling of ``dx'`` to stop;
+        ``None`` (default, the paper's procedure) means ``confirm_fraction``. With
+        ``stop_fraction=1`` the procedure keeps doubling ``dx'`` until one run holds all
+        the ones (or ``dx_max`` is reached), so that a run ending before the newest
+        sample cannot be taken for the track; the confirmation still uses
+        ``confirm_fraction``. Not the paper's rule.
 
     Returns
     -------
@@ -770,6 +816,9 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
         raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
     if not (0 < confirm_fraction <= 1):
         raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
+    stop = confirm_fraction if stop_fraction is None else stop_fraction
+    if isinstance(stop, bool) or not isinstance(stop, (int, float, np.integer, np.floating)) or not (0 < stop <= 1):
+        raise ValueError(f"stop_fraction must be None or in (0, 1], got {stop_fraction!r}")
     c = c.astype(float)
     n_ones = int(round(c.sum()))
     if n_ones == 0:
@@ -781,7 +830,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     while True:
         I, start, L = pulse_correlation(P, zero_value)
         history.append((dx, I, L))
-        if I >= confirm_fraction * n_ones or dx >= dx_max:
+        if I >= stop * n_ones or dx >= dx_max:
             break
         if P.size % 2:
             P = np.append(P, 0.0)
@@ -891,7 +940,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
                    frame_time: float, n_frames: int, drho: float = 2.0, p_detect: float = 1.0,
                    jitter_sigma: float = 0.5, dx_max: int = 16, confirm_fraction: float = 0.75,
                    heading_hint: Sequence[float] = (0.0, 1.0), votes: float = float("nan"),
-                   origin: str = "center") -> TrackEstimate:
+                   origin: str = "center", stop_fraction: float | None = None) -> TrackEstimate:
     """Confirm one HT line and estimate the target's state (Sec. III and VI).
 
     Projects the strip ``|y'| <= drho`` of the composite ``points``
@@ -899,7 +948,8 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     (:func:`project_and_correlate`), and estimates the position by Eq. (5) and the
     speed by Eq. (7), ``v = dx' P_D L / (I T)`` (Eq. (6) when ``P_D = 1``); the
     velocity points along the line in the direction of ``heading_hint``. The
-    covariance is :func:`track_covariance` rotated to image axes.
+    covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` is
+    passed to :func:`project_and_correlate` (``None``: the paper's 75 % stopping rule).
 
     Raises
     ------
@@ -917,7 +967,8 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     if not np.any(counts):
         raise ValueError(f"the strip |y'| <= {drho:g} around the line (rho={float(rho):g}, "
                          f"theta_deg={float(theta_deg):g}) holds none of the points: no track to estimate")
-    res = project_and_correlate(counts, x0, dx_max=dx_max, confirm_fraction=confirm_fraction)
+    res = project_and_correlate(counts, x0, dx_max=dx_max, confirm_fraction=confirm_fraction,
+                                stop_fraction=stop_fraction)
     t = np.deg2rad(theta_deg)
     n = np.array([np.cos(t), np.sin(t)])
     cx, cy = _origin_xy(shape, origin)
@@ -965,6 +1016,10 @@ class TrackInitiator:
         The 75 % rule.
     heading_hint : (float, float)
         Prior direction of motion used to orient ``x'`` (climbing targets: +y).
+    exclude_ridge : int or None
+        Neighbourhood of the peak detector (:func:`detect_peaks`): ``None`` (default)
+        the paper's full ``5 x 5`` window; ``1`` the window without the line's own
+        ``rho`` ridge (not the paper's rule).
 
     Attributes
     ----------
@@ -989,7 +1044,8 @@ class TrackInitiator:
     def __init__(self, *, drho: float = 2.0, dtheta_deg: float = 1.0, thresholded: bool = False,
                  ratio: float = 3.0, bridge: float = 1.5, min_votes: float | None = None,
                  p_detect: float = 1.0, jitter_sigma: float = 0.5, dx_max: int = 16,
-                 confirm_fraction: float = 0.75, heading_hint: Sequence[float] = (0.0, 1.0)):
+                 confirm_fraction: float = 0.75, heading_hint: Sequence[float] = (0.0, 1.0),
+                 exclude_ridge: int | None = None):
         self.drho = _check_positive(drho, "drho")
         self.dtheta_deg = _check_positive(dtheta_deg, "dtheta_deg")
         self.thresholded = bool(thresholded)
@@ -1012,6 +1068,11 @@ class TrackInitiator:
             raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
         self.confirm_fraction = float(confirm_fraction)
         self.heading_hint = tuple(_check_hint(heading_hint))
+        if exclude_ridge is not None and (isinstance(exclude_ridge, bool)
+                                          or not isinstance(exclude_ridge, (int, np.integer))
+                                          or not 0 <= exclude_ridge < 2):
+            raise ValueError(f"exclude_ridge must be None, 0 or 1 (5 x 5 window), got {exclude_ridge!r}")
+        self.exclude_ridge = exclude_ridge
 
     @staticmethod
     def default_min_votes(n_frames: int) -> int:
@@ -1068,7 +1129,8 @@ class TrackInitiator:
         n = len(pts)
         H, rhos, thetas = self.hough(pts, shape)
         floor = self.default_min_votes(n) if self.min_votes is None else self.min_votes
-        peaks = detect_peaks(H, rhos, thetas, ratio=self.ratio, bridge=self.bridge, min_votes=floor)
+        peaks = detect_peaks(H, rhos, thetas, ratio=self.ratio, bridge=self.bridge, min_votes=floor,
+                             exclude_ridge=self.exclude_ridge)
         comp = np.concatenate(pts, axis=0)
         tracks, empty = [], []
         for p in peaks:
@@ -1195,7 +1257,8 @@ def evaluate_initiation(initiator: TrackInitiator, frames: object, trajectories:
 
 def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
                         n_targets: int = 50, jitter_sigma: float = 0.5, drho: float = 2.0,
-                        shape: tuple[int, int] = (256, 256), return_errors: bool = False) -> dict[str, object]:
+                        shape: tuple[int, int] = (256, 256), return_errors: bool = False,
+                        stop_fraction: float | None = None) -> dict[str, object]:
     """The accuracy experiment of Sec. VI for one speed and frame time.
 
     ``n_targets`` straight constant-velocity targets
@@ -1204,7 +1267,9 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
     ``jitter_sigma``; each gets its own HT, the strongest peak (the HT maximum if the
     detector finds none) is taken as its line, and :func:`estimate_track` gives the
     state at the last detected frame. Errors are resolved along (``x'``) and across
-    (``y'``) the true track.
+    (``y'``) the true track. ``stop_fraction`` is passed to :func:`estimate_track`
+    (``None``: the paper's 75 % stopping rule; ``1``: keep doubling ``dx'`` until one
+    run holds every point).
 
     Returns
     -------
@@ -1213,8 +1278,10 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
         the predicted ones ``pred_x`` (Eq. (8)), ``pred_y`` (Eq. (9)), ``pred_vx``
         (Eq. (12)), ``pred_vy`` (Eq. (13)), the number of frames ``n_p``, the number of
         targets confirmed by the 75 % rule ``n_confirmed`` and of targets whose HT gave
-        no peak ``n_fallback``; with ``return_errors`` also ``errors``, the
-        ``(n_targets, 4)`` array of errors in ``x'``, ``y'``, ``v_x'``, ``v_y'``.
+        no peak ``n_fallback``, the number of targets that left the frame before the
+        last frame ``n_left``; with ``return_errors`` also ``errors``, the
+        ``(n_targets, 4)`` array of errors in ``x'``, ``y'``, ``v_x'``, ``v_y'``, and
+        ``n_seen``, the number of frames in which each target was detected.
     """
     from projtrack.scenes.boost import frame_times, render_frames, straight_targets
 
@@ -1222,7 +1289,7 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
     n_p = int(round(total_time / T))
     times = frame_times(n_p, T)
     targets = straight_targets(n_targets, speed, shape=shape, rng=rng)
-    errs, n_conf, n_fb = [], 0, 0
+    errs, n_conf, n_fb, seen_counts = [], 0, 0, []
     h, w = shape
     for tr in targets:
         fr = render_frames([tr], times, rng, shape=shape, jitter_sigma=jitter_sigma, n_noise=0)
@@ -1238,9 +1305,10 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
         v_true = tr.velocity(times[-1])
         d_true = v_true / np.linalg.norm(v_true)
         est = estimate_track(pts, shape, rho, th, frame_time=T, n_frames=n_p, drho=drho,
-                             jitter_sigma=jitter_sigma, heading_hint=d_true)
+                             jitter_sigma=jitter_sigma, heading_hint=d_true, stop_fraction=stop_fraction)
         n_conf += int(est.projection.confirmed)
         seen = [k for k in range(n_p) if len(fr.points[k])]
+        seen_counts.append(len(seen))
         p_true = fr.truth[seen[-1], 0]
         n_true = np.array([-d_true[1], d_true[0]])
         e = est.position - p_true
@@ -1253,9 +1321,10 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
             "std_x": float(std[0]), "std_y": float(std[1]), "std_vx": float(std[2]), "std_vy": float(std[3]),
             "pred_x": float(np.sqrt(pred["var_x"])), "pred_y": float(np.sqrt(pred["var_y"])),
             "pred_vx": float(np.sqrt(pred["var_vx"])), "pred_vy": float(np.sqrt(pred["var_vy"])),
-            "n_confirmed": n_conf, "n_fallback": n_fb}
+            "n_confirmed": n_conf, "n_fallback": n_fb, "n_left": int(np.sum(np.array(seen_counts) < n_p))}
     if return_errors:
         out["errors"] = E
+        out["n_seen"] = np.array(seen_counts)
     return out
 
 
