@@ -24,9 +24,10 @@ uses (row 0 for an undetected target), i.e. the product of the individual event
 probabilities of Sec. II.C. With a clutter (false-measurement) density ``lambda``
 the standard JPDA weights (Fortmann, Bar-Shalom & Scheffe 1983, in the form with
 ``1 - P_D`` for an undetected target) are recovered by dividing rows ``j >= 1`` by
-``lambda`` (see :func:`modified_validation_matrix`); the paper's form is ``lambda = 1``. ``beta[j, t]`` is the probability of the events in
-which measurement ``j`` is associated with target ``t`` and ``beta[0, t]`` that target
-``t`` was not detected, eq. (2); every column sums to 1.
+``lambda`` (see :func:`modified_validation_matrix`); the paper's form is ``lambda = 1``.
+``beta[j, t]`` is the probability of the events in which measurement ``j`` is
+associated with target ``t`` and ``beta[0, t]`` that target ``t`` was not detected,
+eq. (2); every column sums to 1.
 """
 
 from __future__ import annotations
