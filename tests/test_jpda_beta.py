@@ -197,6 +197,19 @@ def test_tables4_5_operation_counts(mT):
     assert (f.additions, f.multiplications) == TABLE_V[mT]
 
 
+@pytest.mark.parametrize("m", range(1, 9))
+@pytest.mark.parametrize("T", range(2, 9))
+def test_fast_additions_follow_table3_rule(m, T):
+    """Table V's additions are m T sum_{k=0}^{T-2} V(m - 1, T - k), V the Table III sizes.
+
+    This is the rule that proves the printed 1968 at m = 7, T = 4 a misprint (1988).
+    """
+    rule = m * T * sum(jpda.vector_size(m - 1, T - k) for k in range(T - 1))
+    assert jpda.fast_op_count(m, T).additions == rule
+    if (m, T) == (7, 4):
+        assert rule == 1988 and 1968 % (m * T) != 0
+
+
 def test_stored_intermediates_save_more_than_110_multiplications():
     c = jpda.conventional_op_count(7, 7)
     s = jpda.fast_op_count(7, 7, store_intermediates=True)

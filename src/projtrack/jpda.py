@@ -22,11 +22,12 @@ A feasible joint event assigns each target either "not detected" or a distinct
 validated measurement; its weight is the product over targets of the MVM entry it
 uses (row 0 for an undetected target), i.e. the product of the individual event
 probabilities of Sec. II.C. With a clutter (false-measurement) density ``lambda``
-the standard JPDA weights (Fortmann, Bar-Shalom & Scheffe 1983) are recovered by
-dividing rows ``j >= 1`` by ``lambda`` (see :func:`modified_validation_matrix`); the
-paper's form is ``lambda = 1``. ``beta[j, t]`` is the probability of the events in
-which measurement ``j`` is associated with target ``t`` and ``beta[0, t]`` that target
-``t`` was not detected, eq. (2); every column sums to 1.
+the standard JPDA weights (Fortmann, Bar-Shalom & Scheffe 1983, in the form with
+``1 - P_D`` for an undetected target) are recovered by dividing rows ``j >= 1`` by
+``lambda`` (see :func:`modified_validation_matrix`); the paper's form is ``lambda = 1``.
+``beta[j, t]`` is the probability of the events in which measurement ``j`` is
+associated with target ``t`` and ``beta[0, t]`` that target ``t`` was not detected,
+eq. (2); every column sums to 1.
 """
 
 from __future__ import annotations
@@ -1132,8 +1133,10 @@ def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np
     Notes
     -----
     Complexity of ``"auto"``: ``O(sum_c max(m_c, T_c) min(m_c, T_c) 2^min(m_c, T_c))``
-    over clusters ``c``, and ``O(max(m_c, T_c) 2^min(m_c, T_c))`` memory; exact JPDA is
-    #P-hard, so exponential in ``min(m, T)`` for a fully gated problem. On the 2-core
+    over clusters ``c``, and ``O(max(m_c, T_c) 2^min(m_c, T_c))`` memory: exponential in
+    ``min(m, T)`` for a fully gated problem. Exact JPDA computes matrix permanents, which
+    is #P-hard already for 0-1 matrices, so no polynomial-time exact method exists unless
+    FP = #P. On the 2-core
     machine of ``benchmarks/bench_jpda.py`` a fully gated ``m = T = 16`` takes about
     0.02 s and ``m = T = 20`` 0.5 to 1.2 s (measured while the machine ran other jobs).
     """
