@@ -122,3 +122,19 @@ def test_median_draw_and_settling_step():
     np.testing.assert_array_equal(settling_step([[0.5, 0.01], [0.01, 0.2]]), [1, 2])
     with pytest.raises(ValueError):
         settling_step([0.1], tol=0)
+
+
+def test_reconstruct_many_equals_reconstruct():
+    import numpy as np
+    import pytest
+    from projtrack import ellipsoids as E
+    from projtrack.scenes import ellipses as S
+    rng = np.random.default_rng(9)
+    Cs = S.paper_projections()
+    W = rng.normal(0, 0.5, size=(3, 5))
+    ideal = np.array([float(C[:, 0] @ S.X26 @ C[:, 0]) for C in Cs])
+    many = E.reconstruct_many(ideal + W, Cs)
+    for d in range(3):
+        np.testing.assert_allclose(many[d], E.reconstruct([np.array([[v]]) for v in ideal + W[d]], Cs), atol=1e-12)
+    with pytest.raises(ValueError):
+        E.reconstruct_many(np.zeros((2, 2)), Cs[:2])
