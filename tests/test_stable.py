@@ -70,3 +70,29 @@ def test_bad_inputs_are_named():
         fmt("1.0")
     with pytest.raises(TypeError, match="spec"):
         fmt(1.0, 3)
+
+
+def test_tiny_prints_bound_below_floor_and_value_above():
+    from projtrack.stable import tiny
+    assert tiny(3e-16) == "< 1e-12"
+    assert tiny(-3e-16) == "< 1e-12"
+    assert tiny(2.5e-5) == "2.5e-05"
+    assert tiny(5e-9, floor=1e-8) == "< 1e-8"
+    assert tiny(5e-8, floor=1e-8) == "5.0e-08"
+    with pytest.raises(ValueError):
+        tiny(1.0, floor=0)
+    with pytest.raises(TypeError):
+        tiny("1")
+
+
+def test_below_is_pass_fail_against_fixed_tolerance():
+    from projtrack.stable import below
+    # values on either side of a power of ten print the same: only the tolerance matters
+    assert below(1.0096e-5, 1e-3) == below(9.9e-6, 1e-3) == "< 1e-3"
+    assert below(-4.76e-5, 1e-3) == "< 1e-3"
+    assert below(2e-3, 1e-3) == "FAIL: 2.0e-03"
+    assert below(1e-3, 1e-3).startswith("FAIL")
+    with pytest.raises(ValueError):
+        below(1.0, -1e-3)
+    with pytest.raises(TypeError):
+        below(None, 1e-3)

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["tidy", "fmt"]
+__all__ = ["tidy", "fmt", "tiny", "below"]
 
 
 def _check(decimals: object, sig: object, atol: object) -> None:
@@ -145,3 +145,65 @@ def fmt(x: Any, spec: str = ".6g", *, atol: float = 0.0) -> str:
         if not any(c in "123456789" for c in mantissa):
             s = s.replace("-", "+" if "+" in spec else "", 1)
     return s
+
+
+def tiny(x: Any, floor: float = 1e-12) -> str:
+    """Format a value that should be zero up to rounding: ``"< floor"`` if ``|x| < floor``.
+
+    Values at rounding-error level (a deviation from an identity, a residual of an exact
+    formula) differ in their last bits between machines; below ``floor`` they are printed
+    as the bound, above it with two significant digits (``"3.1e-05"``).
+
+    Parameters
+    ----------
+    x : real number
+        The value.
+    floor : float, default 1e-12
+        Positive bound below which only the bound is printed.
+
+    Examples
+    --------
+    >>> tiny(3e-16)
+    '< 1e-12'
+    >>> tiny(-2.5e-5)
+    '-2.5e-05'
+    """
+    if isinstance(x, bool) or not isinstance(x, numbers.Real):
+        raise TypeError(f"x must be a real number, got {type(x).__name__}")
+    if isinstance(floor, bool) or not isinstance(floor, numbers.Real) or not floor > 0 or not math.isfinite(floor):
+        raise ValueError(f"floor must be a positive finite number, got {floor!r}")
+    v = float(x)
+    if not math.isfinite(v):
+        return str(v)
+    return f"< {floor:.0e}".replace("e-0", "e-") if abs(v) < floor else fmt(v, ".1e")
+
+
+def below(x: Any, tol: float) -> str:
+    """Pass/fail of a solver-accuracy value against a fixed tolerance stated in advance.
+
+    Returns ``"< tol"`` when ``|x| < tol`` and ``"FAIL: <value>"`` otherwise. The printed
+    text changes only when the value crosses ``tol``, a bound chosen before the numbers and
+    far from them, never at a boundary set by the data (as power-of-ten buckets would be).
+
+    Parameters
+    ----------
+    x : real number
+        The value (its absolute value is compared).
+    tol : float
+        The positive tolerance.
+
+    Examples
+    --------
+    >>> below(1.0096e-5, 1e-3)
+    '< 1e-3'
+    >>> below(0.02, 1e-3)
+    'FAIL: 2.0e-02'
+    """
+    if isinstance(x, bool) or not isinstance(x, numbers.Real):
+        raise TypeError(f"x must be a real number, got {type(x).__name__}")
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real) or not tol > 0 or not math.isfinite(tol):
+        raise ValueError(f"tol must be a positive finite number, got {tol!r}")
+    v = abs(float(x))
+    if v < tol:
+        return f"< {tol:.0e}".replace("e-0", "e-").replace("e+0", "e")
+    return f"FAIL: {v:.1e}"
