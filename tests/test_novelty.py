@@ -413,7 +413,8 @@ def test_report_frame4_numbers(method):
 
 def test_report_frame8_fraction_needs_three_prior_updates():
     # Fig. 2e: n_8 = 0.005841 and F_8 = 0.001090; equal-energy frames give 0.0013 after two
-    # prior updates (frames 1 and 4, as the text says) and 0.0011 only after three
+    # prior updates (frames 1 and 4: "not until frame 8 ... another update") and 0.0011 only
+    # after three ("every few frames, the process model is updated")
     out = {}
     for prior in (1, 2, 3, 4):
         a, b = _pair_with_novelty(0.005841)
@@ -426,6 +427,35 @@ def test_report_frame8_fraction_needs_three_prior_updates():
     assert round(out[3], 4) == 0.0011
     assert abs(out[3] - 0.001090) < abs(out[2] - 0.001090) / 10
 
+
+
+@pytest.mark.parametrize("prior", [1, 2, 3])
+@pytest.mark.parametrize("energy_ratio", [0.9, 1.0, 1.1])
+def test_report_frame8_closed_form(prior, energy_ratio):
+    # one eigenimage holding r times the new frame's energy: F_1 F_2 = r n / (1 + r)^2
+    n = 0.005841
+    a, b = _pair_with_novelty(n, energy_ratio)
+    f = nv.NoveltyFilter(0.0, 0.95)
+    for _ in range(prior):
+        f.partial_fit(a)
+    f.partial_fit(b)
+    r = prior / energy_ratio
+    f2 = (1 - np.sqrt(1 - 4 * r * n / (1 + r) ** 2)) / 2
+    assert float(f.information_fractions_[1]) == pytest.approx(f2, rel=1e-9)
+
+
+def test_report_frame8_printed_fraction_within_fourth_update_range():
+    # the printed 0.001090 lies inside the fourth update's range for energy ratios 0.9-1.1 and
+    # outside the third update's
+    def f2(prior, ratio):
+        a, b = _pair_with_novelty(0.005841, ratio)
+        f = nv.NoveltyFilter(0.0, 0.95)
+        for _ in range(prior):
+            f.partial_fit(a)
+        f.partial_fit(b)
+        return float(f.information_fractions_[1])
+    assert f2(3, 0.9) < 0.001090 < f2(3, 1.1)
+    assert not f2(2, 0.9) < 0.001090 < f2(2, 1.1)
 
 def test_report_frame2_vip_numbers():
     # Fig. 2b: the printed V_2 gives the printed n_2 through Eq. (7), and v(1,1) = V_1 / 2 (Eq. 4)
