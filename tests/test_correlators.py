@@ -215,6 +215,16 @@ def test_snr_known_plane():
     assert np.isclose(C.snr_db(10.0), 20.0)
 
 
+def test_snr_db_paper_convention_matches_printed_pairs():
+    # the paper's own pairs: 26.2 -> 14.2 dB, 100.8 -> 20 dB, 8 -> 9 dB
+    for ratio, printed in ((26.2, 14.2), (100.8, 20.0), (8.0, 9.0)):
+        assert abs(C.snr_db(ratio, convention="paper") - printed) < 0.1
+        assert abs(C.snr_db(ratio) - printed) > 5.0
+    assert np.isclose(C.snr_db(10.0, convention="paper"), 10.0)
+    with pytest.raises(ValueError):
+        C.snr_db(10.0, convention="power")
+
+
 def test_peak_stats_keys():
     plane = np.ones((40, 40))
     plane[20, 20] = 5.0
@@ -422,3 +432,23 @@ def test_circular_correlate_matches_direct_cyclic_sum_and_eq3():
 def test_circular_correlate_rejects_bad_inputs(f, g, exc):
     with pytest.raises(exc):
         C.circular_correlate(f, g)
+
+
+def test_summed_output_scores_equal_peak_sum_only_when_peaks_coincide():
+    from projtrack.scenes import letters
+    alpha = letters.alphabet()
+    labels = np.arange(26)
+    bank = C.ProjectionCorrelationClassifier(angles=(90, 0)).fit(alpha, labels)
+    peaks = bank.decision_function(alpha)
+    summed = bank.summed_output_scores(alpha)
+    assert summed.shape == peaks.shape == (26, 26)
+    assert np.all(summed <= peaks + 1e-12)
+    # own class of a centred letter: both peaks at zero lag, so the sum equals the peak sum
+    assert np.allclose(np.diag(summed), np.diag(peaks))
+    # shifting the letter so that the two peaks fall at opposite lags: the summed output drops
+    shifted = np.roll(np.roll(alpha, 4, axis=1), 4, axis=2)  # r runs against the row index: opposite lags
+    assert np.all(np.diag(bank.summed_output_scores(shifted)) < np.diag(bank.decision_function(shifted)) - 0.1)
+    with pytest.raises(ValueError):
+        C.ProjectionCorrelationClassifier(angles=(90, 0, 45)).fit(alpha, labels).summed_output_scores(alpha)
+    with pytest.raises(ValueError):
+        C.ProjectionCorrelationClassifier().summed_output_scores(alpha)

@@ -560,13 +560,32 @@ def snr(plane: np.ndarray, exclude: int = 32) -> float:
     return float(arr[loc] / sd)
 
 
-def snr_db(ratio: float) -> float:
-    """An amplitude ratio in decibels, ``20 log10(ratio)`` (the paper's SNR in dB)."""
+def snr_db(ratio: float, *, convention: str = "amplitude") -> float:
+    """An SNR ratio in decibels.
+
+    Parameters
+    ----------
+    ratio : float
+        A positive ratio, for example the amplitude SNR of Eq. (5a) (peak over the standard
+        deviation of the plane).
+    convention : {"amplitude", "paper"}
+        ``"amplitude"`` (default): ``20 log10(ratio)``, the usual decibels of an amplitude
+        ratio. ``"paper"``: ``10 log10(ratio)``, the convention of Casasent and Song, who quote
+        10 log10 of their amplitude SNR (26.2 as 14.2 dB, 100.8 as 20 dB, N^1/2 = 8 as 9 dB).
+
+    Returns
+    -------
+    float
+        The ratio in decibels under the chosen convention.
+    """
     if isinstance(ratio, bool) or not isinstance(ratio, (int, float, np.number)):
         raise TypeError(f"ratio must be a number, got {type(ratio).__name__}")
     if not np.isfinite(ratio) or ratio <= 0:
         raise ValueError(f"ratio must be finite and > 0, got {ratio}")
-    return float(20.0 * np.log10(ratio))
+    factors = {"amplitude": 20.0, "paper": 10.0}
+    if convention not in factors:
+        raise ValueError(f"convention must be one of {sorted(factors)}, got {convention!r}")
+    return float(factors[convention] * np.log10(ratio))
 
 
 def peak_stats(plane: np.ndarray, *, window: int = 11, exclude: int | None = 32) -> dict[str, object]:
@@ -734,6 +753,32 @@ class ProjectionCorrelationClassifier(CorrelationFilterBank):
     def decision_function(self, X: np.ndarray) -> np.ndarray:
         """Sum over angles of the largest projection-correlation peak, ``(n, n_classes)``."""
         return self.peak_scores(X).sum(axis=2)
+
+    def summed_output_scores(self, X: np.ndarray) -> np.ndarray:
+        """Largest value of the correlations summed over angles at a common lag, ``(n, n_classes)``.
+
+        This is what one detector of a frequency-multiplexed space-integrating correlator
+        (Fig. 8) reads: the correlations of all projections of one filter set add at the
+        same time step before the peak is taken. It equals :meth:`decision_function` only
+        when the peaks of all angles fall at the same lag (for example, centred inputs).
+
+        Raises
+        ------
+        ValueError
+            If the classifier is not fitted, ``X`` is not a stack of images of the fitted
+            shape, or the projections at the bank's angles differ in length (they cannot
+            share one time axis).
+        """
+        X = self._check_X(X)
+        lengths = {P.shape[1] for P in self.filter_projections_}
+        if len(lengths) != 1:
+            raise ValueError(f"summed outputs need projections of equal length at every angle, got {sorted(lengths)}")
+        total = None
+        for a, t in enumerate(self.angles):
+            P = self._unit(project_stack(X, t))
+            c = _batch_correlate1d(P, self.filter_projections_[a])
+            total = c if total is None else total + c
+        return total.max(axis=2)
 
 
 class Correlation2DClassifier(CorrelationFilterBank):
