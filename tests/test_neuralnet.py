@@ -449,3 +449,46 @@ def test_fixed_point_inputs_are_validated():
         nn.assignment_max_sums(nn.distance_tensor(np.zeros((5, 4, 3))), max_assignments=1000)
     with pytest.raises(ValueError, match="measurement indices"):
         nn.neuron_distance_sums(np.full((4, 5), 7), nn.distance_tensor(np.zeros((5, 4, 3))))
+
+
+# ----------------------------------------------------------------------------- noise laws
+@pytest.mark.parametrize("law", ["ball", "radial", "coordinate"])
+def test_noise_laws_stay_within_n_percent_and_differ_in_spread(law):
+    rng = np.random.default_rng(11)
+    r = rng.normal(size=(20000, 3)) * 50
+    d = perturb(rng, r, 5.0, law) - r
+    norm_r = np.linalg.norm(r, axis=1)
+    assert np.all(np.linalg.norm(d, axis=1) <= 0.05 * norm_r + 1e-12)
+    rms = np.sqrt(np.mean((np.linalg.norm(d, axis=1) / (0.05 * norm_r)) ** 2))
+    # ball: sqrt(3/5) = 0.775; radial and per-coordinate: 1/sqrt(3) = 0.577
+    assert rms == pytest.approx(np.sqrt(0.6) if law == "ball" else 1 / np.sqrt(3), abs=0.01)
+    if law == "radial":      # moved along r only
+        np.testing.assert_allclose(np.cross(d, r), 0.0, atol=1e-9)
+    if law == "coordinate":  # every coordinate moved by at most n% of itself
+        assert np.all(np.abs(d) <= 0.05 * np.abs(r) + 1e-12)
+
+
+def test_noise_law_reaches_make_tracks_and_simulate():
+    a = make_tracks(np.random.default_rng(3), 4, 5, noise_percent=5.0, noise_law="radial")
+    b = make_tracks(np.random.default_rng(3), 4, 5, noise_percent=5.0, noise_law="coordinate")
+    np.testing.assert_array_equal(a.truth, b.truth)
+    assert not np.allclose(a.positions, b.positions)
+    ta = np.take_along_axis(a.truth, a.labels[:, :, None], 1)
+    ratio = np.linalg.norm(a.positions, axis=2) / np.linalg.norm(ta, axis=2)
+    np.testing.assert_allclose(np.cross(a.positions, ta), 0.0, atol=1e-8)
+    assert np.all(np.abs(ratio - 1) <= 0.05 + 1e-12)
+    r1 = nn.simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
+    r2 = nn.simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
+    np.testing.assert_array_equal(r1["iterations"], r2["iterations"])
+
+
+def test_noise_law_is_validated():
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="noise_law"):
+        perturb(rng, np.ones((2, 3)), 1.0, "gaussian")
+    with pytest.raises(TypeError, match="noise_law"):
+        perturb(rng, np.ones((2, 3)), 1.0, 1)
+    with pytest.raises(ValueError, match="noise_law"):
+        make_tracks(rng, 4, 5, noise_percent=1.0, noise_law="uniform")
+    with pytest.raises(ValueError, match="noise_law"):
+        nn.simulate(rng, 1, 1, 1.0, noise_law="Ball")

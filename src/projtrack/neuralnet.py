@@ -1239,7 +1239,7 @@ def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = No
 
 # ----------------------------------------------------------------------------- experiments
 def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_percent: float, *,
-             n_targets: int = 4, n_frames: int = 5, unit: float = 256.0,
+             noise_law: str = "ball", n_targets: int = 4, n_frames: int = 5, unit: float = 256.0,
              coefficients: Coefficients | Sequence[float] | None = None, offset: float = PAPER_OFFSET,
              max_iter: int = 50, mode: str = "serial", self_coupling: bool = True, exact_energy: bool = False,
              perturbation: float = 0.1, references: bool = True,
@@ -1260,6 +1260,8 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
     noise_percent : float
         Position noise ``n >= 0`` (% of the distance from the centre), see
         :func:`projtrack.scenes.tracks3d.perturb`.
+    noise_law : {"ball", "radial", "coordinate"}, default "ball"
+        How the noise is drawn, see :func:`projtrack.scenes.tracks3d.perturb`.
     n_targets, n_frames, unit, coefficients, offset, max_iter, mode, self_coupling, exact_energy, perturbation
         As in :func:`projtrack.scenes.tracks3d.make_tracks`, :func:`initial_states` and
         :func:`run_net`.
@@ -1292,7 +1294,8 @@ def simulate(rng: np.random.Generator, n_datasets: int, n_starts: int, noise_per
         raise TypeError(f"noise_percent must be a number, got {type(noise_percent).__name__}")
     if not (np.isfinite(noise_percent) and noise_percent >= 0):
         raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
-    scenes = [make_tracks(rng, n_targets, n_frames, noise_percent=noise_percent) for _ in range(n_datasets)]
+    scenes = [make_tracks(rng, n_targets, n_frames, noise_percent=noise_percent, noise_law=noise_law)
+              for _ in range(n_datasets)]
     pos = np.stack([s.positions for s in scenes]) / unit
     D = distance_tensor(pos)
     X0 = initial_states(rng, n_datasets * n_starts, n_targets, n_targets, n_frames, perturbation)
