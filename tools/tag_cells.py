@@ -15,8 +15,9 @@ A code cell is collapsed when :func:`kind` classifies it as
 ``helper``
     only function or class definitions (with constants);
 ``figure``
-    a cell that draws a figure (``plt.subplots``/``plt.figure``/``figures.save``) and is
-    longer than :data:`LONG` lines: the figure is what the reader needs, not its styling;
+    a cell that draws a figure (``plt.subplots``/``plt.figure``/``figures.save``), is
+    longer than :data:`LONG` lines and mostly draws (:data:`DRAWING_SHARE` of its lines):
+    the figure is what the reader needs, not its styling;
 ``scorecard``
     a cell whose statements are mostly calls on the page's scorecard (``card.add(...)``).
 
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -43,6 +45,10 @@ from run_notebooks import toc_notebooks  # noqa: E402
 
 #: Figure-making cells longer than this many non-blank lines are collapsed.
 LONG = 12
+#: ... and when at least this share of their lines draw (use ``ax``, ``fig``, ``plt``):
+#: a long cell that mostly computes (a Monte Carlo study that ends with its plot) stays visible.
+DRAWING_SHARE = 0.5
+_DRAWING = re.compile(r"\b(ax\w*|fig\w*|plt|figures)\b")
 #: Tags that already hide a cell's input.
 HIDING = ("hide-input", "remove-input", "hide-cell", "remove-cell")
 _STYLE_CALLS = ("apply_style", "set_printoptions", "filterwarnings", "simplefilter", "seed", "threadpool_limits")
@@ -122,9 +128,10 @@ def kind(source: str) -> str | None:
         return "setup"
     if not rest and defs:
         return "helper"
-    lines = [line for line in code.splitlines() if line.strip()]
+    lines = [line for line in code.splitlines() if line.strip() and not line.lstrip().startswith("#")]
     draws = any(s in code for s in ("plt.subplots(", "plt.figure(", "figures.save(", "fig.add_subplot("))
-    if draws and len(lines) > LONG:
+    drawing = sum(bool(_DRAWING.search(line)) for line in lines)
+    if draws and len(lines) > LONG and drawing >= DRAWING_SHARE * len(lines):
         return "figure"
     return None
 
