@@ -187,7 +187,10 @@ def _vote(pts: np.ndarray, shape: tuple[int, int], rhos: np.ndarray, thetas_deg:
     cx, cy = _origin_xy(shape, origin)
     t = np.deg2rad(thetas_deg)
     rho = (pts[:, 0:1] - cx) * np.cos(t) + (pts[:, 1:2] - cy) * np.sin(t)  # (N, n_theta), Eq. (1)
-    idx = np.floor((rho - rhos[0]) / drho + 0.5).astype(np.int64)
+    # Integer pixels land exactly on bin boundaries (e.g. at 30/60/120/150 degrees); rounding
+    # the bin coordinate to 9 decimals first makes the side a tie falls on independent of the
+    # last bit of cos/sin (which differs between CPU math libraries): ties go up.
+    idx = np.floor(np.round((rho - rhos[0]) / drho, 9) + 0.5).astype(np.int64)
     np.clip(idx, 0, n_rho - 1, out=idx)
     flat = idx * n_theta + np.arange(n_theta)
     w = None if weights is None else np.repeat(weights[:, None], n_theta, axis=1).ravel()
