@@ -529,3 +529,19 @@ def test_points_on_a_rho_bin_boundary_vote_the_same_on_every_cpu(theta, eps, mon
         want = int(np.flatnonzero(np.isclose(rhos, exact + 0.5))[0])
         H, _, _ = hough_transform(np.array(pt), (16, 16), 1.0, 1.0, origin="corner")
         assert H[want, theta] == 1.0, (theta, eps, k)
+
+
+def test_step_schedule_of_dx_on_the_fig1_example():
+    # stepping dx' by one stops at dx' = 3 (samples 0-2, 3-5, 6-8, 9-11 each hold one point),
+    # where doubling stops at 4
+    P = np.zeros(32, dtype=int)
+    P[[1, 3, 6, 9, 30]] = 1
+    r = project_and_correlate(P, dx_schedule="step")
+    assert (r.dx, r.L, r.I, r.j, r.P_j, r.confirmed) == (3, 4, 4.0, 3, 1.0, True)
+    assert [h[0] for h in r.history] == [1, 2, 3]
+    assert r.x_prime == pytest.approx(3 * (3 + 0.5 * 4 / 4))  # Eq. (5)
+    assert project_and_correlate(P, dx_schedule="step", dx_max=3).dx == 3
+    with pytest.raises(ValueError, match="dx_schedule"):
+        project_and_correlate(P, dx_schedule="halve")
+    with pytest.raises(ValueError, match="power of two"):
+        project_and_correlate(P, dx_max=3)
