@@ -493,3 +493,55 @@ def test_line_through_rejects_identical_points():
         line_through([[5.0, 7.0], [5.0, 7.0], [5.0, 7.0]], SHAPE)
     rho, theta = line_through([[5.0, 7.0], [5.0, 7.0], [6.0, 7.0]], SHAPE)
     assert theta == pytest.approx(90.0)
+
+
+
+class _PerturbedTrig:
+    """numpy with cos/sin moved by a relative ``eps`` (another CPU's last bit)."""
+
+    def __init__(self, eps):
+        self.eps = eps
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+    def cos(self, x):
+        return np.cos(x) * (1.0 + self.eps)
+
+    def sin(self, x):
+        return np.sin(x) * (1.0 + self.eps)
+
+
+@pytest.mark.parametrize("eps", [0.0, -1e-13, 1e-13])
+@pytest.mark.parametrize("theta", [30, 60, 120, 150])
+def test_points_on_a_rho_bin_boundary_vote_the_same_on_every_cpu(theta, eps, monkeypatch):
+    # corner origin, drho = 1: a pixel at odd x (60/120 deg) or odd y (30/150 deg) has
+    # rho = +-k/2 exactly, on a bin boundary; cos/sin may be off in the last bits, and the
+    # bin must not depend on that: ties go up.
+    from projtrack import hough as hmod
+    monkeypatch.setattr(hmod, "np", _PerturbedTrig(eps))
+    rhos, _ = hough_axes((16, 16), 1.0, 1.0, origin="corner")
+    for k in (1, 3, 5, 7):
+        if theta in (60, 120):
+            pt, exact = [[float(k), 0.0]], (k if theta == 60 else -k) / 2.0
+        else:
+            pt, exact = [[0.0, float(k)]], k / 2.0
+        want = int(np.flatnonzero(np.isclose(rhos, exact + 0.5))[0])
+        H, _, _ = hough_transform(np.array(pt), (16, 16), 1.0, 1.0, origin="corner")
+        assert H[want, theta] == 1.0, (theta, eps, k)
+
+
+def test_step_schedule_of_dx_on_the_fig1_example():
+    # stepping dx' by one stops at dx' = 3 (samples 0-2, 3-5, 6-8, 9-11 each hold one point),
+    # where doubling stops at 4
+    P = np.zeros(32, dtype=int)
+    P[[1, 3, 6, 9, 30]] = 1
+    r = project_and_correlate(P, dx_schedule="step")
+    assert (r.dx, r.L, r.I, r.j, r.P_j, r.confirmed) == (3, 4, 4.0, 3, 1.0, True)
+    assert [h[0] for h in r.history] == [1, 2, 3]
+    assert r.x_prime == pytest.approx(3 * (3 + 0.5 * 4 / 4))  # Eq. (5)
+    assert project_and_correlate(P, dx_schedule="step", dx_max=3).dx == 3
+    with pytest.raises(ValueError, match="dx_schedule"):
+        project_and_correlate(P, dx_schedule="halve")
+    with pytest.raises(ValueError, match="power of two"):
+        project_and_correlate(P, dx_max=3)

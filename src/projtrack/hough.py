@@ -187,7 +187,10 @@ def _vote(pts: np.ndarray, shape: tuple[int, int], rhos: np.ndarray, thetas_deg:
     cx, cy = _origin_xy(shape, origin)
     t = np.deg2rad(thetas_deg)
     rho = (pts[:, 0:1] - cx) * np.cos(t) + (pts[:, 1:2] - cy) * np.sin(t)  # (N, n_theta), Eq. (1)
-    idx = np.floor((rho - rhos[0]) / drho + 0.5).astype(np.int64)
+    # Integer pixels land exactly on bin boundaries (e.g. at 30/60/120/150 degrees); rounding
+    # the bin coordinate to 9 decimals first makes the side a tie falls on independent of the
+    # last bit of cos/sin (which differs between CPU math libraries): ties go up.
+    idx = np.floor(np.round((rho - rhos[0]) / drho, 9) + 0.5).astype(np.int64)
     np.clip(idx, 0, n_rho - 1, out=idx)
     flat = idx * n_theta + np.arange(n_theta)
     w = None if weights is None else np.repeat(weights[:, None], n_theta, axis=1).ravel()
@@ -768,7 +771,8 @@ class ProjectionResult:
 def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
                           confirm_fraction: float = 0.75,
                           zero_value: float = PULSE_ZERO_VALUE,
-                          stop_fraction: float | None = None) -> ProjectionResult:
+                          stop_fraction: float | None = None,
+                          dx_schedule: str = "double") -> ProjectionResult:
     """Increase ``dx'`` until the 75 % rule holds, then apply Eq. (5) (Sec. III, Fig. 1(c)).
 
     The ``dx' = 1`` projection is summed in pairs (``dx' = 2, 4, 8, ...``) up to
@@ -797,6 +801,10 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
         the ones (or ``dx_max`` is reached), so that a run ending before the newest
         sample cannot be taken for the track; the confirmation still uses
         ``confirm_fraction``. Not the paper's rule.
+    dx_schedule : {"double", "step"}, keyword-only, default "double"
+        How ``dx'`` grows: ``"double"`` (1, 2, 4, ..., the paper's Fig. 1) or ``"step"``
+        (1, 2, 3, ..., ``dx_max``: samples of ``dx'`` consecutive ``dx' = 1`` samples).
+        With ``"step"`` ``dx_max`` may be any integer >= 1.
 
     Returns
     -------
@@ -811,9 +819,11 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     c = np.asarray(counts)
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c)) or np.any(c < 0):
         raise ValueError("counts must be a non-empty 1-D array of non-negative counts")
+    if dx_schedule not in ("double", "step"):
+        raise ValueError(f"dx_schedule must be 'double' or 'step', got {dx_schedule!r}")
     if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
-            or (dx_max & (dx_max - 1)) != 0:
-        raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
+            or (dx_schedule == "double" and (dx_max & (dx_max - 1)) != 0):
+        raise ValueError(f"dx_max must be an integer >= 1 (a power of two when doubling), got {dx_max!r}")
     if not (0 < confirm_fraction <= 1):
         raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
     stop = confirm_fraction if stop_fraction is None else stop_fraction
@@ -832,10 +842,14 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
         history.append((dx, I, L))
         if I >= stop * n_ones or dx >= dx_max:
             break
-        if P.size % 2:
-            P = np.append(P, 0.0)
-        P = P.reshape(-1, 2).sum(axis=1)
-        dx *= 2
+        if dx_schedule == "double":
+            if P.size % 2:
+                P = np.append(P, 0.0)
+            P = P.reshape(-1, 2).sum(axis=1)
+            dx *= 2
+        else:
+            dx += 1
+            P = np.append(c, np.zeros(-c.size % dx)).reshape(-1, dx).sum(axis=1)
     confirmed = I >= confirm_fraction * n_ones
     j = start + L - 1
     P_j = float(P[j])
@@ -940,7 +954,8 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
                    frame_time: float, n_frames: int, drho: float = 2.0, p_detect: float = 1.0,
                    jitter_sigma: float = 0.5, dx_max: int = 16, confirm_fraction: float = 0.75,
                    heading_hint: Sequence[float] = (0.0, 1.0), votes: float = float("nan"),
-                   origin: str = "center", stop_fraction: float | None = None) -> TrackEstimate:
+                   origin: str = "center", stop_fraction: float | None = None,
+                   dx_schedule: str = "double") -> TrackEstimate:
     """Confirm one HT line and estimate the target's state (Sec. III and VI).
 
     Projects the strip ``|y'| <= drho`` of the composite ``points``
@@ -948,8 +963,9 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     (:func:`project_and_correlate`), and estimates the position by Eq. (5) and the
     speed by Eq. (7), ``v = dx' P_D L / (I T)`` (Eq. (6) when ``P_D = 1``); the
     velocity points along the line in the direction of ``heading_hint``. The
-    covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` is
-    passed to :func:`project_and_correlate` (``None``: the paper's 75 % stopping rule).
+    covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` and
+    ``dx_schedule`` are passed to :func:`project_and_correlate` (``None`` and
+    ``"double"``: the paper's 75 % stopping rule and doubling of ``dx'``).
 
     Raises
     ------
@@ -968,7 +984,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
         raise ValueError(f"the strip |y'| <= {drho:g} around the line (rho={float(rho):g}, "
                          f"theta_deg={float(theta_deg):g}) holds none of the points: no track to estimate")
     res = project_and_correlate(counts, x0, dx_max=dx_max, confirm_fraction=confirm_fraction,
-                                stop_fraction=stop_fraction)
+                                stop_fraction=stop_fraction, dx_schedule=dx_schedule)
     t = np.deg2rad(theta_deg)
     n = np.array([np.cos(t), np.sin(t)])
     cx, cy = _origin_xy(shape, origin)
@@ -1258,7 +1274,7 @@ def evaluate_initiation(initiator: TrackInitiator, frames: object, trajectories:
 def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
                         n_targets: int = 50, jitter_sigma: float = 0.5, drho: float = 2.0,
                         shape: tuple[int, int] = (256, 256), return_errors: bool = False,
-                        stop_fraction: float | None = None) -> dict[str, object]:
+                        stop_fraction: float | None = None, dx_schedule: str = "double") -> dict[str, object]:
     """The accuracy experiment of Sec. VI for one speed and frame time.
 
     ``n_targets`` straight constant-velocity targets
@@ -1267,7 +1283,8 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
     ``jitter_sigma``; each gets its own HT, the strongest peak (the HT maximum if the
     detector finds none) is taken as its line, and :func:`estimate_track` gives the
     state at the last detected frame. Errors are resolved along (``x'``) and across
-    (``y'``) the true track. ``stop_fraction`` is passed to :func:`estimate_track`
+    (``y'``) the true track. ``dx_schedule`` (``"double"``, the paper's, or ``"step"``) and
+    ``stop_fraction`` are passed to :func:`estimate_track`
     (``None``: the paper's 75 % stopping rule; ``1``: keep doubling ``dx'`` until one
     run holds every point).
 
@@ -1305,7 +1322,8 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
         v_true = tr.velocity(times[-1])
         d_true = v_true / np.linalg.norm(v_true)
         est = estimate_track(pts, shape, rho, th, frame_time=T, n_frames=n_p, drho=drho,
-                             jitter_sigma=jitter_sigma, heading_hint=d_true, stop_fraction=stop_fraction)
+                             jitter_sigma=jitter_sigma, heading_hint=d_true, stop_fraction=stop_fraction,
+                             dx_schedule=dx_schedule)
         n_conf += int(est.projection.confirmed)
         seen = [k for k in range(n_p) if len(fr.points[k])]
         seen_counts.append(len(seen))
