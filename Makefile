@@ -82,19 +82,23 @@ nbval-second-kernel: $(STAMP)
 	fi
 
 # nbval under every OpenBLAS kernel of tools/blas_kernels.py this CPU can run, each run in
-# its own process; run it before submitting a change to notebooks or numerics.
+# its own process (two at a time, one per core); run it before submitting a change to
+# notebooks or numerics. Logs: .cache/crosscheck-<kernel>.log
 crosscheck: $(STAMP)
-	@set -e; mkdir -p .cache; kernels="$$($(PY) tools/blas_kernels.py list)"; \
+	@set -e; kernels="$$($(PY) tools/blas_kernels.py list)"; \
 	missing="$$($(PY) tools/blas_kernels.py missing)"; dups="$$($(PY) tools/blas_kernels.py duplicates)"; \
 	[ -z "$$missing" ] || echo "==> this CPU cannot run the OpenBLAS kernels: $$missing (not checked here)"; \
 	[ -z "$$dups" ] || echo "==> same kernel as one already checked, not run twice: $$dups"; \
 	[ -n "$$kernels" ] || { echo "==> no x86-64 kernel list here: nbval under the default kernel only"; $(NBVAL); exit 0; }; \
-	for k in $$kernels; do \
-		echo "==> nbval under OPENBLAS_CORETYPE=$$k"; \
-		OPENBLAS_CORETYPE=$$k $(NBVAL) > .cache/crosscheck-$$k.log 2>&1 \
-			&& echo "    $$k: $$(tail -n 1 .cache/crosscheck-$$k.log)" \
-			|| { tail -n 40 .cache/crosscheck-$$k.log; echo "==> FAILED under $$k (log: .cache/crosscheck-$$k.log)"; exit 1; }; \
-	done; echo "crosscheck passed under: $$kernels"
+	echo "==> nbval under each of: $$kernels"; \
+	$(MAKE) --no-print-directory -j2 --output-sync=target $$(for k in $$kernels; do printf 'crosscheck-kernel-%s ' "$$k"; done); \
+	echo "crosscheck passed under: $$kernels"
+
+crosscheck-kernel-%: $(STAMP)
+	@mkdir -p .cache
+	@OPENBLAS_CORETYPE=$* $(NBVAL) > .cache/crosscheck-$*.log 2>&1 \
+		&& echo "    $*: $$(tail -n 1 .cache/crosscheck-$*.log)" \
+		|| { tail -n 40 .cache/crosscheck-$*.log; echo "==> FAILED under $* (log: .cache/crosscheck-$*.log)"; exit 1; }
 
 bookcheck: $(STAMP)
 	@echo "==> strict book build (warnings and broken references are errors)"
@@ -108,7 +112,8 @@ browser-deps:
 	@if command -v chromium >/dev/null && command -v chromedriver >/dev/null; then :; \
 	elif [ "$${CI:-}" = "true" ] && [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 		echo "==> installing Debian's chromium and chromium-driver for the browser check"; \
-		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null; \
+		{ apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null; } \
+		|| echo "!! could not install chromium and chromium-driver with apt-get"; \
 	fi
 
 # The built book opened from disk with no network, in headless Chromium: math typeset,
