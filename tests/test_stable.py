@@ -96,3 +96,11 @@ def test_below_is_pass_fail_against_fixed_tolerance():
         below(1.0, -1e-3)
     with pytest.raises(TypeError):
         below(None, 1e-3)
+
+
+def test_tiny_spec_formats_values_above_the_floor():
+    from projtrack.stable import tiny
+
+    assert tiny(0.012345, spec=".3g") == "0.0123"
+    assert tiny(0.012345) == "1.2e-02"
+    assert tiny(3e-16, spec=".3g") == "< 1e-12"

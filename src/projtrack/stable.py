@@ -147,7 +147,7 @@ def fmt(x: Any, spec: str = ".6g", *, atol: float = 0.0) -> str:
     return s
 
 
-def tiny(x: Any, floor: float = 1e-12) -> str:
+def tiny(x: Any, floor: float = 1e-12, spec: str = ".1e") -> str:
     """Format a value that should be zero up to rounding: ``"< floor"`` if ``|x| < floor``.
 
     Values at rounding-error level (a deviation from an identity, a residual of an exact
@@ -160,6 +160,8 @@ def tiny(x: Any, floor: float = 1e-12) -> str:
         The value.
     floor : float, default 1e-12
         Positive bound below which only the bound is printed.
+    spec : str, default ".1e"
+        Format of values at or above ``floor`` (through :func:`fmt`).
 
     Examples
     --------
@@ -175,7 +177,7 @@ def tiny(x: Any, floor: float = 1e-12) -> str:
     v = float(x)
     if not math.isfinite(v):
         return str(v)
-    return f"< {floor:.0e}".replace("e-0", "e-") if abs(v) < floor else fmt(v, ".1e")
+    return f"< {floor:.0e}".replace("e-0", "e-") if abs(v) < floor else fmt(v, spec)
 
 
 def below(x: Any, tol: float) -> str:
