@@ -16,8 +16,8 @@ import numpy as np
 import pandas as pd
 
 from projtrack import montecarlo
-from projtrack._validation import as_array, as_int, as_probability, as_real, as_rng
-from projtrack.novelty import FrameRecord, NoveltyFilter, process_sequence
+from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack.novelty import FrameRecord, process_sequence
 from projtrack.scenes.sequences import walking_sequence
 
 __all__ = [
