@@ -11,6 +11,7 @@ import pytest
 matplotlib.use("Agg")
 
 from projtrack import novelty as nv  # noqa: E402
+from projtrack.experiments.novelty.plots import plot_block_diagram  # noqa: E402
 from projtrack.scenes.sequences import load_plaza_excerpt  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -54,7 +55,7 @@ def test_block_diagram_has_every_step():
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots()
-    nv.plot_block_diagram(ax)
+    plot_block_diagram(ax)
     texts = [t.get_text() for t in ax.texts]
     for step, _ in nv.TABLE1_STEPS:
         assert any(t.startswith(f"{step}. ") for t in texts)

@@ -24,9 +24,9 @@ down once and not adjusted to reproduce any number of the paper.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from numbers import Real
-
 import numpy as np
+
+from projtrack._validation import as_int, as_real, as_value_error
 
 __all__ = ["AIRCRAFT", "Aircraft", "aircraft_model", "render", "render_rolls"]
 
@@ -240,15 +240,10 @@ def render(aircraft: Aircraft | str, roll_deg: float, size: int = 64, supersampl
         aircraft = aircraft_model(aircraft)
     if not isinstance(aircraft, Aircraft):
         raise TypeError(f"aircraft must be an Aircraft or a name in {AIRCRAFT}")
-    if isinstance(roll_deg, bool) or not isinstance(roll_deg, Real) or not np.isfinite(roll_deg):
-        raise ValueError(f"roll_deg must be a finite number, got {roll_deg!r}")
-    for name, v in (("size", size), ("supersample", supersample)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-            raise ValueError(f"{name} must be a positive integer, got {v!r}")
-    if size < 8:
-        raise ValueError(f"size must be at least 8, got {size}")
-    if not isinstance(extent, Real) or not extent > 0:
-        raise ValueError(f"extent must be a positive number, got {extent!r}")
+    roll_deg = as_value_error(as_real, roll_deg, "roll_deg")
+    size = as_value_error(as_int, size, "size", minimum=8)
+    supersample = as_value_error(as_int, supersample, "supersample", minimum=1)
+    extent = as_value_error(as_real, extent, "extent", 0.0, low_open=True)
     a = np.deg2rad(float(roll_deg))
     rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
     t = aircraft.triangles @ rot.T

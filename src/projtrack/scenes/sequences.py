@@ -14,10 +14,10 @@ from __future__ import annotations
 import io
 from dataclasses import dataclass
 from importlib import resources
-from numbers import Integral, Real
-
 import numpy as np
 from scipy import ndimage
+
+from projtrack._validation import as_int, as_real, as_rng, as_shape2, as_value_error
 
 __all__ = ["WalkingSequence", "PlazaExcerpt", "load_plaza_excerpt", "textured_background",
            "walking_sequence"]
@@ -85,20 +85,17 @@ def load_plaza_excerpt() -> PlazaExcerpt:
                             int(d["entry_position"]), str(d["source"]))
 
 
-def _check_rng(rng) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    return rng
-
-
 def _check_shape(shape) -> tuple[int, int]:
-    try:
-        h, w = (int(s) for s in shape)
-    except (TypeError, ValueError):
-        raise ValueError(f"shape must be a pair of integers (H, W), got {shape!r}") from None
+    """A ``(H, W)`` pair of ints, each at least 16 (room for the walking figures)."""
+    h, w = as_shape2(shape, "shape")
     if h < 16 or w < 16:
         raise ValueError(f"shape must be at least (16, 16), got {shape!r}")
     return h, w
+
+
+def _as_level(value, name: str) -> float:
+    """A finite number >= 0 (a length, a speed, a grey level); any bad value is a ValueError."""
+    return as_value_error(as_real, value, name, 0.0)
 
 
 def textured_background(shape: tuple[int, int], rng: np.random.Generator,
@@ -121,11 +118,10 @@ def textured_background(shape: tuple[int, int], rng: np.random.Generator,
     ndarray (H, W) float
     """
     h, w = _check_shape(shape)
-    rng = _check_rng(rng)
+    rng = as_rng(rng)
     for name, v in (("correlation_length", correlation_length), ("mean", mean),
                     ("contrast", contrast)):
-        if isinstance(v, bool) or not isinstance(v, Real) or not np.isfinite(v) or v < 0:
-            raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+        _as_level(v, name)
     tex = ndimage.gaussian_filter(rng.standard_normal((h, w)), correlation_length, mode="wrap")
     tex = (tex - tex.mean()) / (tex.std() + 1e-12)
     ramp = np.linspace(-0.5, 0.5, h)[:, None]
@@ -163,21 +159,18 @@ def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
     -------
     WalkingSequence
     """
-    rng = _check_rng(rng)
+    rng = as_rng(rng)
     h, w = _check_shape(shape)
-    for name, v in (("n_frames", n_frames), ("n_background_figures", n_background_figures),
-                    ("entry_frame", entry_frame)):
-        if isinstance(v, bool) or not isinstance(v, Integral) or v < 0:
-            raise ValueError(f"{name} must be a non-negative integer, got {v!r}")
-    if n_frames < 1:
-        raise ValueError(f"n_frames must be >= 1, got {n_frames}")
+    n_frames = as_value_error(as_int, n_frames, "n_frames", minimum=1)
+    n_background_figures = as_value_error(as_int, n_background_figures, "n_background_figures",
+                                          minimum=0)
+    entry_frame = as_value_error(as_int, entry_frame, "entry_frame", minimum=0)
     for name, v in (("background_height", background_height),
                     ("foreground_height", foreground_height),
                     ("background_speed", background_speed),
                     ("foreground_speed", foreground_speed), ("figure_grey", figure_grey),
                     ("jitter", jitter), ("noise_std", noise_std)):
-        if isinstance(v, bool) or not isinstance(v, Real) or not np.isfinite(v) or v < 0:
-            raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+        _as_level(v, name)
     background = textured_background((h, w), rng)
     rows, cols = np.mgrid[0:h, 0:w].astype(float)
     # background walkers: feet row in the upper half, random start and direction

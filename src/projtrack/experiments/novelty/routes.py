@@ -1,0 +1,162 @@
+"""Checks of the KL algorithms against exact oracles and streaming baselines (Eqs. (2)-(9)).
+
+The VIP-matrix eigen-decomposition against the large correlation/covariance matrix
+(:func:`vip_vs_large`), the recursion with ``T_d = 0``, ``T_I = 1`` against the batch
+decomposition by both update routes (:func:`route_errors`), the routes on near-duplicate
+frames (:func:`near_duplicate_study`) and the adaptive filter against batch SVD/PCA and
+scikit-learn's IncrementalPCA (:func:`streaming_comparison`).
+"""
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from scipy.linalg import subspace_angles
+from sklearn.decomposition import PCA, IncrementalPCA
+
+from projtrack._validation import as_array, as_int, as_rng
+from projtrack.novelty import (METHODS, EigenvalueDroppedWarning, NoveltyFilter, batch_kl,
+                               correlation_matrix)
+from projtrack.stable import fmt
+
+__all__ = ["vip_vs_large", "route_errors", "near_duplicate_study", "streaming_comparison"]
+
+
+def vip_vs_large(frames: Any) -> pd.DataFrame:
+    """Eqs. (2)-(3): the VIP-matrix eigen-decomposition against that of the large ``P x P`` matrix.
+
+    For the correlation (``center=False``) and the covariance (``center=True``) matrix: the
+    largest relative eigenvalue error and the largest principal angle between the spanned
+    subspaces (``frames`` must be small: at most 4096 pixels per frame).
+    """
+    small = as_array(frames, "frames", ndim=3, allow_empty=False)
+    rows = []
+    for center in (False, True):
+        basis = batch_kl(small, center=center)
+        lam, vec = np.linalg.eigh(correlation_matrix(small, center=center))
+        lam, vec = lam[::-1], vec[:, ::-1]
+        k = basis.eigenvalues.size
+        e = basis.eigenimages.reshape(k, -1)
+        rows.append({
+            "matrix": "covariance C" if center else "correlation R",
+            "VIP size": f"{len(small)}x{len(small)}",
+            "large size": f"{e.shape[1]}x{e.shape[1]}",
+            "non-zero eigenvalues": k,
+            "max rel. eigenvalue error": float(np.max(np.abs(basis.eigenvalues - lam[:k]) / lam[:k])),
+            "max principal angle (rad)": float(np.max(subspace_angles(e.T, vec[:, :k]))),
+        })
+    return pd.DataFrame(rows)
+
+
+def route_errors(frames: Any) -> tuple[pd.DataFrame, dict[str, NoveltyFilter]]:
+    """The recursion with ``T_d = 0``, ``T_I = 1`` against the batch KL, for each update route.
+
+    Returns
+    -------
+    errors : pandas.DataFrame
+        Index ``route``: updates, eigenimages kept, the batch's non-zero eigenvalues, the
+        largest relative eigenvalue error, the largest principal angle and the
+        orthonormality error of the eigenimages.
+    filters : dict
+        Route -> the fitted :class:`~projtrack.novelty.NoveltyFilter`.
+    """
+    frames = as_array(frames, "frames", allow_empty=False)
+    batch = batch_kl(frames)
+    k = batch.eigenvalues.size
+    route_err, filters = {}, {}
+    for method in METHODS:
+        f = NoveltyFilter(novelty_threshold=0.0, information_threshold=1.0, method=method).fit(frames)
+        route_err[method] = {
+            "updates": f.n_updates_, "eigenimages kept": f.rank_, "batch non-zero eigenvalues": k,
+            "max rel. eigenvalue error": float(np.max(np.abs(f.eigenvalues_[:k] - batch.eigenvalues) / batch.eigenvalues)),
+            "largest principal angle (rad)": float(np.max(subspace_angles(f.components_[:k].T, batch.eigenimages.reshape(k, -1).T))),
+            "orthonormality error": float(np.max(np.abs(f.components_ @ f.components_.T - np.eye(f.rank_))))}
+        filters[method] = f
+    return pd.DataFrame.from_dict(route_err, orient="index").rename_axis("route"), filters
+
+
+def near_duplicate_study(frame: Any, rng: np.random.Generator,
+                         deltas: Sequence[float] = (1.0, 1e-3, 1e-4), n_copies: int = 6) -> pd.DataFrame:
+    """Both routes on ``n_copies`` copies of ``frame`` plus white noise of std ``delta``.
+
+    With ``T_d = 0`` and ``T_I = 1`` every copy updates and every eigenimage should be kept;
+    the oracle is the SVD of the copies.  One noise draw per ``delta`` (from ``rng``), shared
+    by both routes.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per ``delta`` and route: eigenimages kept, the number of
+        :class:`~projtrack.novelty.EigenvalueDroppedWarning`, the largest relative eigenvalue
+        error and the orthonormality error.
+    """
+    rng = as_rng(rng)
+    n_copies = as_int(n_copies, "n_copies", minimum=2)
+    base = as_array(frame, "frame", allow_empty=False).ravel()
+    rows = []
+    for delta in deltas:
+        dup = base + delta * rng.standard_normal((n_copies, base.size))
+        s2 = np.linalg.svd(dup, compute_uv=False) ** 2 / len(dup)         # the oracle
+        for method in METHODS:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", EigenvalueDroppedWarning)
+                f = NoveltyFilter(0.0, 1.0, method=method).fit(dup)
+            kk = f.rank_
+            rows.append({"delta (grey levels)": delta, "route": method, f"eigenimages kept (of {n_copies})": kk,
+                         "dropped-eigenvalue warnings": sum(issubclass(w.category, EigenvalueDroppedWarning) for w in caught),
+                         "max rel. eigenvalue error": float(np.max(np.abs(f.eigenvalues_ - s2[:kk]) / s2[:kk])),
+                         "orthonormality error": float(np.max(np.abs(f.components_ @ f.components_.T - np.eye(kk))))})
+    return pd.DataFrame(rows)
+
+
+def streaming_comparison(seq: Any, novelty_threshold: float = 0.001,
+                         information_threshold: float = 0.9995, batch_size: int = 10) -> dict[str, Any]:
+    """The adaptive filter against batch SVD/PCA and IncrementalPCA with as many stored images.
+
+    The filter chooses ``K``; the linear baselines keep ``K`` eigenimages, the affine ones
+    (PCA, IncrementalPCA fed ``batch_size`` frames at a time) a mean and ``K - 1``
+    components.
+
+    Returns
+    -------
+    dict
+        ``table`` (pandas.DataFrame: per method the stored images, frames used, energy missed,
+        its ratio to the best batch method and the floats kept), ``K``, ``best`` (the best
+        batch energy missed) and the fitted models ``adaptive``, ``ipca``, ``pca``.
+    """
+    seq = as_array(seq, "seq", allow_empty=False)
+    batch_size = as_int(batch_size, "batch_size", minimum=1)
+    X = seq.reshape(len(seq), -1)
+    ada = NoveltyFilter(novelty_threshold=novelty_threshold,
+                        information_threshold=information_threshold).fit(seq)
+    K = ada.rank_
+    if K < 2:
+        raise ValueError("the adaptive filter kept one eigenimage: nothing to compare with K - 1 components")
+    ipca = IncrementalPCA(n_components=K - 1)
+    for start in range(0, len(X), batch_size):
+        ipca.partial_fit(X[start:start + batch_size])
+    pca = PCA(n_components=K - 1, svd_solver="full").fit(X)
+
+    def missed(recon):
+        return float(np.sum((X - recon) ** 2) / np.sum(X ** 2))
+
+    def affine(model):
+        return model.mean_ + (X - model.mean_) @ model.components_.T @ model.components_
+
+    top = batch_kl(seq, n_components=K).eigenimages.reshape(K, -1)
+    res = {
+        "adaptive recursive SVD (linear, K eigenimages)": (missed(X @ ada.components_.T @ ada.components_), ada.n_updates_,
+                                                           ada.components_.size + K),
+        "batch SVD of R, top K (linear optimum)": (missed(X @ top.T @ top), len(X), X.size),
+        "IncrementalPCA, mean + K-1 components (affine)": (missed(affine(ipca)), len(X),
+                                                           ipca.components_.size + 2 * X.shape[1] + K - 1),
+        "batch PCA, mean + K-1 components (affine optimum)": (missed(affine(pca)), len(X), X.size),
+    }
+    best = min(res["batch SVD of R, top K (linear optimum)"][0], res["batch PCA, mean + K-1 components (affine optimum)"][0])
+    table = pd.DataFrame([{"method": m, "stored images": K, "frames used": n, "energy missed": fmt(r, ".3e"),
+                           "missed / best batch": fmt(r / best, ".3f"), "floats kept": fl}
+                          for m, (r, n, fl) in res.items()])
+    return {"table": table, "K": K, "best": best, "adaptive": ada, "ipca": ipca, "pca": pca}
