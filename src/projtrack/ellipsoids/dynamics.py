@@ -8,7 +8,7 @@ import numpy as np
 
 from projtrack._validation import as_array, as_choice
 
-from .checks import _check_Cs, _check_Ys, _dim, _mats, _n_from_dim, _rank, _seq, check_symmetric
+from .checks import _as_size, _check_Cs, _check_Ys, _dim, _mats, _n_from_dim, _rank, _seq, check_symmetric
 from .halfspace import halfspace_reconstruct
 from .intervals import interval_bounds
 from .operators import congruence_operator, smat, svec
@@ -52,8 +52,7 @@ def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = No
         if np.ndim(As) != 3:
             raise ValueError("n_steps is required when As is a single matrix")
         n_steps = len(As)  # type: ignore[arg-type]
-    if not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
-        raise ValueError(f"n_steps must be a non-negative int, got {n_steps!r}")
+    n_steps = _as_size(n_steps, "n_steps", 0)
     Al = _seq(As, n_steps, "As", n, True, False) if n_steps else []
     Bl = _seq(np.zeros((n, n)) if Bs is None else Bs, n_steps, "Bs", n, True, True) if n_steps else []
     out = [X]

@@ -6,7 +6,7 @@ import numpy as np
 
 from projtrack._validation import as_array
 
-from .checks import check_symmetric
+from .checks import _as_size, check_symmetric
 
 __all__ = ["axes", "support", "volume", "boundary_points", "conic_points", "is_psd", "nearest_psd"]
 
@@ -86,8 +86,7 @@ def boundary_points(X: object, n_points: int = 200) -> np.ndarray:
         raise ValueError("boundary_points supports n = 2 (curve) and n = 3 (surface grid)")
     if not is_psd(Xm):
         raise ValueError("X must be positive semidefinite; use conic_points for indefinite X")
-    if not isinstance(n_points, (int, np.integer)) or n_points < 3:
-        raise ValueError("n_points must be an int >= 3")
+    n_points = _as_size(n_points, "n_points", 3)
     lam, V = np.linalg.eigh(Xm)
     root = (V * np.sqrt(np.clip(lam, 0, None))) @ V.T
     if Xm.shape[0] == 2:

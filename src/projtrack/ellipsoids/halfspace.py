@@ -9,7 +9,7 @@ import numpy as np
 
 from projtrack._validation import as_array
 
-from .checks import _check_Cs, _check_Ys, _n_from_dim, _rank
+from .checks import _as_positive, _as_size, _check_Cs, _check_Ys, _n_from_dim, _rank
 from .intervals import interval_bounds
 from .lsi import _LSI
 from .operators import congruence_operator, smat, svec
@@ -92,10 +92,8 @@ def halfspace_reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: obj
         y = np.asarray(y, float)
     n = _n_from_dim(A.shape[1])
     L, U = interval_bounds(lower, upper, n)
-    if not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be a positive int, got {max_iter!r}")
-    if not (isinstance(tol, (int, float)) and tol > 0):
-        raise ValueError(f"tol must be a positive float, got {tol!r}")
+    max_iter = _as_size(max_iter, "max_iter", 1)
+    tol = _as_positive(tol, "tol")
     if _rank(A) < A.shape[1]:
         raise ValueError(
             f"the stacked operator has rank {_rank(A)} < n(n+1)/2 = {A.shape[1]}: the constrained "

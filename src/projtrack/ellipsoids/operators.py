@@ -8,7 +8,7 @@ import numpy as np
 
 from projtrack._validation import as_array
 
-from .checks import _SYM_TOL, _check_Cs, _dim, _n_from_dim, check_orthonormal, check_symmetric
+from .checks import _SYM_TOL, _as_size, _check_Cs, _dim, _n_from_dim, check_orthonormal, check_symmetric
 
 __all__ = ["svec", "smat", "symmetric_basis", "ctilde", "congruence_operator", "kron_operator",
            "svec_basis_matrix", "stacked_operator", "project"]
@@ -50,8 +50,7 @@ def smat(x: object) -> np.ndarray:
 
 def symmetric_basis(n: int) -> np.ndarray:
     """The standard symmetric basis ``{M_l^(n)}`` of eq. (9), shape ``(n(n+1)/2, n, n)``."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
+    n = _as_size(n, "n", 1)
     return smat(np.eye(_dim(int(n))))
 
 
@@ -93,8 +92,7 @@ def svec_basis_matrix(n: int) -> np.ndarray:
     ValueError
         If ``n`` is not a positive int.
     """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
+    n = _as_size(n, "n", 1)
     B = symmetric_basis(int(n))
     return B.reshape(B.shape[0], -1).T  # row-major vec equals column-major for symmetric M
 
