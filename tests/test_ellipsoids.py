@@ -617,3 +617,21 @@ def test_silhouette_points_bad_geometry():
     pts = S.silhouette_points(X, np.eye(3)[:, :2], 10, 0.0, rng)  # noise-free points lie on the shadow
     Y = E.project(X, np.eye(3)[:, :2])
     np.testing.assert_allclose(np.einsum("ki,ij,kj->k", pts, np.linalg.inv(Y), pts), 1.0, atol=1e-10)
+
+
+@pytest.mark.parametrize("name, call", [
+    ("n", lambda bad: E.symmetric_basis(bad)),
+    ("n_points", lambda bad: E.boundary_points(np.eye(2), bad)),
+    ("n_steps", lambda bad: E.simulate(np.eye(2), np.eye(2), None, bad)),
+    ("max_iter", lambda bad: E.halfspace_reconstruct([np.eye(1)] * 3, S.paper_projections(3), lower=0, max_iter=bad)),
+])
+@pytest.mark.parametrize("bad", [True, "3", 2.5, -1])
+def test_a_bad_size_is_a_value_error_naming_it(name, call, bad):
+    with pytest.raises(ValueError, match=f"^{name} must be an int"):
+        call(bad)
+
+
+def test_a_bad_tolerance_of_algorithm_1_is_a_value_error():
+    for bad in (0.0, -1.0, "small", np.nan):
+        with pytest.raises(ValueError, match="tol"):
+            E.halfspace_reconstruct([np.eye(1)] * 3, S.paper_projections(3), lower=0, tol=bad)

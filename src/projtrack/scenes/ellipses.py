@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from projtrack._validation import as_array, as_real, as_rng
+
 __all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "realized_snr_static", "periodic_drive",
            "random_ellipsoid", "random_projection", "rotation", "silhouette_points",
            "median_draw", "settling_step"]
@@ -74,29 +76,19 @@ def lognormal_noise(ideal: object, variance: float, rng: np.random.Generator) ->
         raise ValueError("ideal must contain finite positive values")
     if not (np.isfinite(variance) and variance > 0):
         raise ValueError(f"variance must be a positive number, got {variance!r}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
+    as_rng(rng)
     s2 = np.log1p(variance / c**2)
     mu = np.log(c) - s2 / 2
     return rng.lognormal(mu, np.sqrt(s2)) - c
 
 
 def _ideal(ideal: object) -> np.ndarray:
-    try:
-        c = np.asarray(ideal, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError("ideal must be an array of real numbers") from None
-    if c.size == 0 or not np.all(np.isfinite(c)):
-        raise ValueError("ideal must be a non-empty array of finite values")
-    return c
+    return as_array(ideal, "ideal", allow_empty=False)
 
 
 def _sigma(sigma: float) -> float:
-    if isinstance(sigma, bool) or not isinstance(sigma, (int, float, np.integer, np.floating)):
-        raise TypeError(f"sigma must be a real number, got {type(sigma).__name__}")
-    if not (np.isfinite(sigma) and sigma > 0):
-        raise ValueError(f"sigma (the noise standard deviation) must be a positive finite number, got {sigma!r}")
-    return float(sigma)
+    # the noise standard deviation
+    return as_real(sigma, "sigma", 0.0, low_open=True)
 
 
 def snr_static(ideal: object, sigma: float) -> float:
@@ -129,10 +121,7 @@ def realized_snr_static(ideal: object, W: object) -> np.ndarray | float:
         If the shapes disagree, values are not finite or a draw is all zeros (infinite SNR).
     """
     c = _ideal(ideal).ravel()
-    try:
-        w = np.asarray(W, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError("W must be an array of real numbers") from None
+    w = as_array(W, "W", finite=False)
     if w.ndim not in (1, 2) or w.shape[-1] != c.size:
         raise ValueError(f"W must have shape ({c.size},) or (n_draws, {c.size}), got {w.shape}")
     if not np.all(np.isfinite(w)):
@@ -192,8 +181,7 @@ def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, ma
         raise ValueError(f"n must be a positive int, got {n!r}")
     if not (np.isfinite(min_axis) and np.isfinite(max_axis) and 0 < min_axis <= max_axis):
         raise ValueError(f"need finite 0 < min_axis <= max_axis, got {min_axis!r}, {max_axis!r}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
+    as_rng(rng)
     if n == 1:
         return np.array([[rng.uniform(min_axis, max_axis) ** 2]])
     Q = special_ortho_group.rvs(n, random_state=rng)
@@ -209,8 +197,7 @@ def random_projection(n: int, m: int, rng: np.random.Generator) -> np.ndarray:
             raise ValueError(f"{name} must be an int, got {v!r}")
     if not (1 <= m <= n):
         raise ValueError(f"need 1 <= m <= n, got n={n}, m={m}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
+    as_rng(rng)
     Q, R = np.linalg.qr(rng.normal(size=(n, m)))
     return Q * np.sign(np.diag(R))
 
@@ -316,8 +303,7 @@ def silhouette_points(X: np.ndarray, C: np.ndarray, n_points: int, noise: float,
         raise ValueError(f"n_points must be a positive int, got {n_points!r}")
     if isinstance(noise, bool) or not isinstance(noise, (int, float, np.integer, np.floating)) or not (np.isfinite(noise) and noise >= 0):
         raise ValueError(f"noise must be a finite non-negative standard deviation, got {noise!r}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
+    as_rng(rng)
     Y = E.project(Xm, Cm)
     lam, V = np.linalg.eigh(Y)
     if lam[0] <= 1e-12 * max(1.0, lam[1]):

@@ -1,0 +1,282 @@
+"""Static reconstruction studies of Sec. 7.1 of KVW (Figs. 5-9 and the book's Monte Carlo tables).
+
+The book's static page and its "beyond the paper" page draw the noise of Sec. 7.1, pick the
+draw they show by a stated rule (:func:`shown_static_draw`), compare the unconstrained,
+PSD-constrained and interval-constrained estimates (:func:`three_estimates`) and measure how
+often the least squares estimate leaves the PSD cone (:func:`ls_psd_frequency`,
+:func:`noise_reading_study`, :func:`non_psd_pool_study`).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+import pandas as pd
+
+from projtrack import ellipsoids as E
+from projtrack import montecarlo
+from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack.scenes import ellipses as S
+
+__all__ = ["demo_interval", "ideal_supports", "ls_estimates", "shown_static_draw", "three_estimates",
+           "describe_estimates", "non_psd_pool_study", "ls_psd_frequency", "noise_reading_study",
+           "hyperplane_ranks"]
+
+
+def demo_interval() -> tuple[np.ndarray, np.ndarray]:
+    """The interval bounds ``X_lo <= X <= X_hi`` of the book's Figs. 7 and 9 (our choice).
+
+    Ellipses at ``pi/4`` like eq. (26), semi-axes 1.4 and 0.6 (inner) and 3.2 and 1.6 (outer):
+    the paper does not give its interval.
+    """
+    R45 = S.rotation(np.pi / 4)
+    X_lo = R45 @ np.diag([1.4, 0.6]) ** 2 @ R45.T
+    X_hi = R45 @ np.diag([3.2, 1.6]) ** 2 @ R45.T
+    return X_lo, X_hi
+
+
+def ideal_supports(X: object, Cs: Sequence[np.ndarray]) -> np.ndarray:
+    """The ideal scalar observations ``c_k = C_k^T X C_k`` of single-direction views ``C_k`` (n x 1)."""
+    Xm = E.check_symmetric(X)
+    return np.array([float(C[:, 0] @ Xm @ C[:, 0]) for C in Cs])
+
+
+def ls_estimates(W: object, ideal: object, Cs: Sequence[np.ndarray]) -> np.ndarray:
+    """The LS estimates (eq. 15) of the data sets ``ideal + W`` (one row of ``W`` per data set).
+
+    Returns an array ``(D, n, n)``; ``W`` of shape ``(q,)`` is one data set.
+    """
+    w = as_array(W, "W", ndim=(1, 2))
+    c = as_array(ideal, "ideal", ndim=1)
+    if w.shape[-1] != c.size:
+        raise ValueError(f"W must have {c.size} columns (one per observation), got shape {w.shape}")
+    return E.reconstruct_many(c + np.atleast_2d(w), Cs)
+
+
+def _static_noise(rng: np.random.Generator, variance: float) -> np.ndarray:
+    # the perturbations W_k of one data set of Sec. 7.1
+    return S.static_observations(variance, rng)[1]
+
+
+def shown_static_draw(variance: float, rng: np.random.Generator, *, non_psd_only: bool = False,
+                      n_draws: int = 1000) -> dict:
+    """Draw ``n_draws`` data sets of Sec. 7.1 and pick the one a figure shows.
+
+    The rule of the book: the draw with the (upper) median LS error (:func:`projtrack.scenes.
+    ellipses.median_draw`), among all draws or, with ``non_psd_only``, among those whose LS
+    estimate is not PSD (Fig. 9). The draws run through :func:`projtrack.montecarlo.run`.
+
+    Returns
+    -------
+    dict
+        ``W`` (n_draws, q) perturbations, ``X_ls`` their LS estimates, ``err`` the Frobenius
+        errors against eq. (26), ``not_psd`` (bool per draw), ``snr`` the realized SNRs,
+        ``pool`` (indices eligible), ``pick`` (the index shown) and ``data`` the shown data set
+        ``(ideal, W, Ys, Cs)`` as :func:`projtrack.scenes.ellipses.static_observations` gives it.
+    """
+    variance = as_real(variance, "variance", 0.0, low_open=True)
+    rng = as_rng(rng)
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    Cs = S.paper_projections()
+    ideal = ideal_supports(S.X26, Cs)
+    W = np.array(montecarlo.run(_static_noise, n_draws, rng, variance))
+    X_ls = ls_estimates(W, ideal, Cs)
+    err = np.linalg.norm(X_ls - S.X26, axis=(1, 2))
+    not_psd = np.linalg.eigvalsh(X_ls)[:, 0] < 0
+    pool = np.nonzero(not_psd)[0] if non_psd_only else np.arange(n_draws)
+    pick = S.median_draw(err, pool=pool)
+    data = (ideal, W[pick], [np.array([[v]]) for v in ideal + W[pick]], Cs)
+    return {"W": W, "X_ls": X_ls, "err": err, "not_psd": not_psd, "snr": S.realized_snr_static(ideal, W),
+            "pool": pool, "pick": pick, "data": data}
+
+
+def three_estimates(Ys: Sequence[object], Cs: Sequence[np.ndarray], X_lo: object,
+                    X_hi: object) -> tuple[dict, tuple, float]:
+    """The LS, PSD-constrained and interval-constrained estimates of one data set (Figs. 7 and 9).
+
+    The constrained ones by Algorithm 1 (:func:`projtrack.ellipsoids.halfspace_reconstruct`),
+    checked against the SDP of :func:`projtrack.ellipsoids.reconstruct` (``method="sdp"``).
+
+    Returns
+    -------
+    (estimates, (res_psd, res_interval), agreement)
+        ``estimates`` maps ``"LS"``, ``"PSD"``, ``"interval"`` to matrices; the two
+        :class:`~projtrack.ellipsoids.HalfspaceResult`; the largest Frobenius distance between
+        Algorithm 1 and the SDP.
+    """
+    out = {"LS": E.reconstruct(Ys, Cs)}
+    res_psd = E.halfspace_reconstruct(Ys, Cs, lower=0)
+    res_int = E.halfspace_reconstruct(Ys, Cs, lower=X_lo, upper=X_hi)
+    out["PSD"], out["interval"] = res_psd.X, res_int.X
+    sdp_psd = E.reconstruct(Ys, Cs, lower=0, method="sdp")
+    sdp_int = E.reconstruct(Ys, Cs, lower=X_lo, upper=X_hi, method="sdp")
+    agree = max(np.linalg.norm(res_psd.X - sdp_psd), np.linalg.norm(res_int.X - sdp_int))
+    return out, (res_psd, res_int), float(agree)
+
+
+def describe_estimates(estimates: dict, X: object) -> pd.DataFrame:
+    """One row per estimate: eigenvalues, Frobenius error against the true ``X`` and PSD-ness (planar)."""
+    if not isinstance(estimates, dict) or not estimates:
+        raise TypeError("estimates must be a non-empty dict of name -> 2 x 2 matrix")
+    Xm = E.check_symmetric(X, "X", 2)
+    rows = []
+    for k, Xe in estimates.items():
+        lam = np.linalg.eigvalsh(Xe)
+        rows.append({"estimate": k, "lambda_min": lam[0], "lambda_max": lam[1],
+                     "||X_hat - X||_F": np.linalg.norm(Xe - Xm), "PSD": bool(E.is_psd(Xe))})
+    return pd.DataFrame(rows)
+
+
+def non_psd_pool_study(W: object, pool: object, X_lo: object, X_hi: object) -> dict:
+    """Score the three estimates on every draw of ``pool`` (Fig. 9: the draws with a non-PSD LS estimate).
+
+    Parameters
+    ----------
+    W : array_like (D, 5)
+        Perturbations of the data sets of Sec. 7.1 (eq. 26, the five paper directions).
+    pool : array_like of int
+        The draws to score.
+    X_lo, X_hi : array_like (2, 2)
+        The interval bounds.
+
+    Returns
+    -------
+    dict
+        ``closest`` (name of the estimate closest to the truth, per draw), ``singular``
+        (PSD estimate singular), ``lo_beats`` (the inner bound alone closer than LS and PSD),
+        ``int_beats_lo`` (interval estimate strictly closer than ``X_lo``), ``int_is_lo``
+        (interval estimate equal to ``X_lo`` within 1e-6), each a list over the pool, and
+        ``e_lo`` the error of ``X_lo`` itself.
+    """
+    Cs = S.paper_projections()
+    ideal = ideal_supports(S.X26, Cs)
+    w = as_array(W, "W", shape=(None, len(Cs)))
+    idx = as_array(pool, "pool", ndim=1, dtype=int)
+    if np.any(idx < 0) or np.any(idx >= len(w)):
+        raise ValueError(f"pool indices must lie in 0..{len(w) - 1}")
+    X = S.X26
+    out = {"closest": [], "singular": [], "lo_beats": [], "int_beats_lo": [], "int_is_lo": []}
+    e_lo = float(np.linalg.norm(X_lo - X))  # the prior alone: no data
+    for i in idx:
+        Ys_i = [np.array([[v]]) for v in ideal + w[i]]
+        cand = {"LS": ls_estimates(w[i], ideal, Cs)[0], "PSD": E.halfspace_reconstruct(Ys_i, Cs, lower=0).X,
+                "interval": E.halfspace_reconstruct(Ys_i, Cs, lower=X_lo, upper=X_hi).X}
+        e = {k: float(np.linalg.norm(v - X)) for k, v in cand.items()}
+        out["closest"].append(min(e, key=e.get))
+        out["lo_beats"].append(e_lo < min(e["LS"], e["PSD"]))
+        out["int_beats_lo"].append(e["interval"] < e_lo - 1e-6)
+        out["int_is_lo"].append(np.linalg.norm(cand["interval"] - X_lo) < 1e-6)
+        out["singular"].append(abs(np.linalg.eigvalsh(cand["PSD"])[0]) <= 1e-8 * np.linalg.norm(cand["PSD"]))
+    out["e_lo"] = e_lo
+    return out
+
+
+def _lognormal_block(rng: np.random.Generator, ideal: np.ndarray, variance: float, size: int) -> np.ndarray:
+    # a block of `size` data sets drawn with one child generator (vectorized)
+    return S.lognormal_noise(np.broadcast_to(ideal, (size, len(ideal))), variance, rng)
+
+
+def _logvar_block(rng: np.random.Generator, ideal: np.ndarray, s2: float, size: int) -> np.ndarray:
+    # the alternative reading: s2 is the variance of log(Y), Y = c exp(Z), Z ~ N(-s2/2, s2) (mean c)
+    z = rng.normal(-s2 / 2, np.sqrt(s2), size=(size, len(ideal)))
+    return ideal * np.expm1(z)
+
+
+def _blocks(gen, n_blocks: int, block: int, variance: float, seed: int, ideal: np.ndarray) -> np.ndarray:
+    return np.concatenate(montecarlo.run(gen, n_blocks, np.random.default_rng(seed), ideal, variance, block))
+
+
+def _check_study(levels: object, n_blocks: int, block: int) -> list[tuple[float, int]]:
+    as_int(n_blocks, "n_blocks", minimum=1)
+    as_int(block, "block", minimum=1)
+    try:
+        pairs = [(as_real(v, "variance", 0.0, low_open=True), as_int(s, "seed", minimum=0)) for v, s in levels]
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"levels must be (variance, seed) pairs: {exc}") from None
+    if not pairs:
+        raise ValueError("levels must contain at least one (variance, seed) pair")
+    return pairs
+
+
+def ls_psd_frequency(levels: Sequence[tuple[float, int]], n_blocks: int, block: int) -> pd.DataFrame:
+    """How often the LS estimate of Sec. 7.1 is not PSD, leaves our interval, or is as extreme as the paper's.
+
+    ``n_blocks`` blocks of ``block`` data sets per noise level, each block drawn by one child
+    generator of :func:`projtrack.montecarlo.run` seeded by the level's seed.
+
+    Parameters
+    ----------
+    levels : sequence of (variance, seed)
+        Noise variances of the log-normal perturbation and the seed of each level.
+    n_blocks, block : int
+        Number of blocks and data sets per block.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per level: shares of non-PSD and out-of-interval estimates, median eigenvalues,
+        shares of eigenvalues as extreme as the paper's (-2.5 and 19.2) and realized-SNR quantiles.
+    """
+    pairs = _check_study(levels, n_blocks, block)
+    Cs = S.paper_projections()
+    ideal = ideal_supports(S.X26, Cs)
+    X_lo, X_hi = demo_interval()
+    rows = []
+    for var, seed in pairs:
+        W = _blocks(_lognormal_block, n_blocks, block, var, seed, ideal)
+        Xh = ls_estimates(W, ideal, Cs)
+        lam = np.linalg.eigvalsh(Xh)
+        lo = np.linalg.eigvalsh(Xh - X_lo)[:, 0]
+        hi = np.linalg.eigvalsh(X_hi - Xh)[:, 0]
+        rs = S.realized_snr_static(ideal, W)
+        rows.append({"noise variance": var, "P(LS not PSD)": np.mean(lam[:, 0] < 0),
+                     "P(LS outside interval)": np.mean((lo < 0) | (hi < 0)),
+                     "median lambda_min": np.median(lam[:, 0]), "median lambda_max": np.median(lam[:, 1]),
+                     "P(lambda_min <= -2.5)": np.mean(lam[:, 0] <= -2.5),
+                     "P(lambda_max >= 19.2)": np.mean(lam[:, 1] >= 19.2),
+                     "P(both)": np.mean((lam[:, 0] <= -2.5) & (lam[:, 1] >= 19.2)),
+                     "realized SNR 10%": np.percentile(rs, 10), "realized SNR median": np.median(rs),
+                     "realized SNR 90%": np.percentile(rs, 90)})
+    return pd.DataFrame(rows)
+
+
+def noise_reading_study(levels: Sequence[tuple[float, int]], n_blocks: int, block: int) -> pd.DataFrame:
+    """The LS behaviour under two readings of the paper's noise variance (of ``W``, ours, or of ``log Y``).
+
+    Same draws as :func:`ls_psd_frequency` for our reading (same seeds). Returns one row per
+    (level, reading): share of non-PSD estimates, share with both eigenvalues as extreme as the
+    paper's, median largest eigenvalue.
+    """
+    pairs = _check_study(levels, n_blocks, block)
+    Cs = S.paper_projections()
+    ideal = ideal_supports(S.X26, Cs)
+    rows = []
+    for var, seed in pairs:
+        for reading, gen in (("variance of the noise W (ours)", _lognormal_block), ("variance of log Y", _logvar_block)):
+            W = _blocks(gen, n_blocks, block, var, seed, ideal)
+            lam = np.linalg.eigvalsh(ls_estimates(W, ideal, Cs))
+            rows.append({"stated variance": var, "reading": reading, "P(LS not PSD)": np.mean(lam[:, 0] < 0),
+                         "P(both as extreme as -2.5, 19.2)": np.mean((lam[:, 0] <= -2.5) & (lam[:, 1] >= 19.2)),
+                         "median lambda_max": np.median(lam[:, 1])})
+    return pd.DataFrame(rows)
+
+
+def hyperplane_ranks(rng: np.random.Generator, ns: Sequence[int] = range(2, 7), qs: Sequence[int] = range(1, 5),
+                     n_draws: int = 20) -> pd.DataFrame:
+    """Rank of the stacked operator (eq. 14) for ``q`` random hyperplane views (m = n - 1), Sec. 5.1.
+
+    The minimum over ``n_draws`` random draws per ``(n, q)``, drawn in sequence from ``rng``.
+    """
+    rng = as_rng(rng)
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    rows = []
+    for n in ns:
+        n = as_int(n, "n", minimum=2)
+        row = {"n": n, "n(n+1)/2": n * (n + 1) // 2}
+        for q in qs:
+            q = as_int(q, "q", minimum=1)
+            row[f"q={q}"] = min(int(np.linalg.matrix_rank(E.stacked_operator([S.random_projection(n, n - 1, rng)
+                                for _ in range(q)]))) for _ in range(n_draws))
+        rows.append(row)
+    return pd.DataFrame(rows)
