@@ -150,7 +150,7 @@ def test_tracker_step_names_the_measurement_shape(tracker):
     for bad in ([[1.0, 2.0, 3.0]], [1.0, 2.0, 3.0], np.ones((2, 2, 2))):
         with pytest.raises(ValueError, match=r"measurements must have shape \(m, 2\)"):
             trk.step(bad)
-    with pytest.raises(TypeError, match="measurements must be a numeric"):
+    with pytest.raises(TypeError, match="measurements must be a real numeric"):
         trk.step([["a", "b"]])
     # an empty scan (no detections) is valid and only predicts
     assert trk.step([]).shape == (1, 4)
