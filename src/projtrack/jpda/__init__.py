@@ -31,15 +31,15 @@ eq. (2); every column sums to 1.
 
 Modules
 -------
-* :mod:`~projtrack.jpda.validation`: chi-square gates, the validation matrix and the MVM (Secs. II.A, III.A).
-* :mod:`~projtrack.jpda.feasible`: feasible joint events, their count eq. (1) and the feasibility matrices (Sec. II.B).
-* :mod:`~projtrack.jpda.enumeration`: beta by enumerating the feasible events, the conventional method (Sec. II.C).
-* :mod:`~projtrack.jpda.paper`: the paper's fast algorithm: MU words, in-situ stages, eq. (6) (Secs. III.B-D).
-* :mod:`~projtrack.jpda.forward_backward`: exact beta by one forward-backward sweep over subsets (beyond the paper).
-* :mod:`~projtrack.jpda.association`: the default beta: independent clusters, forward-backward on each.
+* :mod:`~projtrack.jpda.validation`: chi-square gates, validation matrix and MVM (II.A, III.A).
+* :mod:`~projtrack.jpda.feasible`: feasible joint events, eq. (1), feasibility matrices (II.B).
+* :mod:`~projtrack.jpda.enumeration`: beta by enumerating the feasible events (II.C).
+* :mod:`~projtrack.jpda.paper`: the paper's fast algorithm: MU words, stages, eq. (6) (III.B-D).
+* :mod:`~projtrack.jpda.forward_backward`: exact beta by one forward-backward sweep over subsets.
+* :mod:`~projtrack.jpda.association`: the default beta: independent clusters, sweep on each.
 * :mod:`~projtrack.jpda.opcounts`: the operation counter and the counts of Tables IV-V.
-* :mod:`~projtrack.jpda.optical`: numerical model of the vector-inner-product processor of Fig. 5 (Sec. IV).
-* :mod:`~projtrack.jpda.trackers`: JPDA and global-nearest-neighbour trackers on Kalman filters.
+* :mod:`~projtrack.jpda.optical`: model of the vector-inner-product processor of Fig. 5 (IV).
+* :mod:`~projtrack.jpda.trackers`: JPDA and global-nearest-neighbour trackers (Kalman filters).
 """
 
 from __future__ import annotations

@@ -21,7 +21,8 @@ from ._checks import _check_mvm, _fail_no_event, _normalize_columns
 if TYPE_CHECKING:
     from .opcounts import OpCount
 
-__all__ = ["mu_words", "vector_size", "vector_size_text_formula", "stage_update", "stage_expressions", "beta_paper"]
+__all__ = ["mu_words", "vector_size", "vector_size_text_formula", "stage_update", "stage_expressions",
+           "beta_paper"]
 
 
 def _popcount(x: np.ndarray) -> np.ndarray:

@@ -15,7 +15,8 @@ from projtrack._validation import as_array, as_int, as_probabilities, as_probabi
 
 from ._checks import _check_mvm
 
-__all__ = ["gate_threshold", "mahalanobis_sq", "validation_matrix", "modified_validation_matrix", "mvm_to_validation"]
+__all__ = ["gate_threshold", "mahalanobis_sq", "validation_matrix", "modified_validation_matrix",
+           "mvm_to_validation"]
 
 
 def gate_threshold(gate_prob: float, dim: int) -> float:
