@@ -108,3 +108,39 @@ def test_paper_tables_are_parsed_and_rounded_like_the_paper():
     with pytest.raises(ValueError, match="den"):
         ex.half_up(1, 0)
     np.testing.assert_array_equal(ex.all_ones_mvm(2, 3)[0], 0.5)
+
+
+def test_literature_rule_equals_the_mvm_for_a_common_p_detect():
+    rng = np.random.default_rng(4)
+    w = rng.uniform(0.1, 1.0, (4, 3))
+    w[0] = 1 - 0.8
+    np.testing.assert_allclose(ex.beta_literature_rule(w, 0.8), jpda.beta(w), atol=1e-12)
+    # with target-dependent P_D the MVM's row 0 differs from the rule's constant: they differ
+    w[0] = [0.1, 0.3, 0.5]
+    assert np.abs(ex.beta_literature_rule(w, 0.8) - jpda.beta(w)).max() > 1e-3
+    with pytest.raises(ValueError, match="p_detect"):
+        ex.beta_literature_rule(w, 0.0)
+
+
+def test_beta_by_permanents_equals_beta():
+    assert ex.permanent_rect(np.array([[1.0, 2.0], [3.0, 4.0]])) == pytest.approx(10.0)
+    with pytest.raises(ValueError, match="no more rows"):
+        ex.permanent_rect(np.ones((3, 2)))
+    w = scene.random_mvm(np.random.default_rng(31), 3, 2)
+    np.testing.assert_allclose(ex.beta_by_permanents(w), jpda.beta(w), atol=1e-12)
+    w[0, 0] = 0.0
+    with pytest.raises(ValueError, match="row 0"):
+        ex.beta_by_permanents(w)
+
+
+def test_clutter_sensitivity_raises_beta0_with_the_density():
+    zp = np.array([[0.0, 0.0], [2.0, 0.0]])
+    S = np.repeat(np.eye(2)[None], 2, axis=0)
+    z = np.array([[0.3, 0.1], [1.8, -0.2]])
+    table = ex.clutter_sensitivity(z, zp, S, 0.9, (0.01, 1.0, 100.0))
+    assert list(table.columns) == ["0.01", "1", "100"] and list(table.index) == ["a", "b"]
+    assert np.all(np.diff(table.to_numpy(), axis=1) > 0)
+    with pytest.raises(ValueError, match="lambdas"):
+        ex.clutter_sensitivity(z, zp, S, 0.9, ())
+    with pytest.raises(ValueError, match="lambdas"):
+        ex.clutter_sensitivity(z, zp, S, 0.9, (0.0,))

@@ -1,6 +1,7 @@
 """Experiments of the JPDA chapter (Fisher & Casasent 1989).
 
 * :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data.
+* :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
 * :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
 * :mod:`~projtrack.experiments.jpda.analog`: beta errors of Fig. 5 with noisy detectors.
 * :mod:`~projtrack.experiments.jpda.tracking`: crossing targets: JPDA and GNN against the truth.
@@ -9,6 +10,12 @@
 from __future__ import annotations
 
 from .analog import analog_accuracy, analog_trial
+from .crosschecks import (
+    beta_by_permanents,
+    beta_literature_rule,
+    clutter_sensitivity,
+    permanent_rect,
+)
 from .equivalence import equivalence_study, equivalence_trial
 from .optables import (
     all_ones_mvm,
@@ -27,6 +34,10 @@ __all__ = [
     "parse_count_table",
     "parse_ratio_table",
     "half_up",
+    "beta_literature_rule",
+    "permanent_rect",
+    "beta_by_permanents",
+    "clutter_sensitivity",
     "equivalence_trial",
     "equivalence_study",
     "analog_trial",
