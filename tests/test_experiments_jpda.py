@@ -144,3 +144,17 @@ def test_clutter_sensitivity_raises_beta0_with_the_density():
         ex.clutter_sensitivity(z, zp, S, 0.9, ())
     with pytest.raises(ValueError, match="lambdas"):
         ex.clutter_sensitivity(z, zp, S, 0.9, (0.0,))
+
+
+def test_scaling_timings_table_shape_and_limits():
+    calls = []
+    assert ex.best_of(lambda: calls.append(1), 3) >= 0 and len(calls) == 3
+    with pytest.raises(ValueError, match="repeats"):
+        ex.best_of(lambda: None, 0)
+    t = ex.scaling_timings([2, 3], 7, enumerate_max=2, paper_max=3, single_run_from=3)
+    assert list(t.index) == [2, 3]
+    assert t.loc[2, "events (Table I)"] == 7.0
+    assert np.isnan(t.loc[3, "enumerate"]) and np.isfinite(t.loc[3, "paper"])
+    assert np.all(t[["auto", "clustered: auto"]].to_numpy() > 0)
+    with pytest.raises(ValueError, match="cluster_size"):
+        ex.scaling_timings([2], 7, cluster_size=0)

@@ -4,6 +4,7 @@
 * :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
 * :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
 * :mod:`~projtrack.experiments.jpda.analog`: beta errors of Fig. 5 with noisy detectors.
+* :mod:`~projtrack.experiments.jpda.timing`: wall-clock scaling of the exact beta methods.
 * :mod:`~projtrack.experiments.jpda.tracking`: crossing targets: JPDA and GNN against the truth.
 """
 
@@ -25,6 +26,7 @@ from .optables import (
     parse_count_table,
     parse_ratio_table,
 )
+from .timing import best_of, scaling_timings
 from .tracking import run_trackers, score_tracks, tracking_study, tracking_summary, tracking_trial
 
 __all__ = [
@@ -42,6 +44,8 @@ __all__ = [
     "equivalence_study",
     "analog_trial",
     "analog_accuracy",
+    "best_of",
+    "scaling_timings",
     "score_tracks",
     "run_trackers",
     "tracking_trial",
