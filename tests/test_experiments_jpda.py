@@ -158,3 +158,14 @@ def test_scaling_timings_table_shape_and_limits():
     assert np.all(t[["auto", "clustered: auto"]].to_numpy() > 0)
     with pytest.raises(ValueError, match="cluster_size"):
         ex.scaling_timings([2], 7, cluster_size=0)
+
+
+def test_vector_growth_table():
+    g = ex.vector_growth([3, 4])
+    assert list(g.index) == [3, 4]
+    assert g.loc[3, "vector length"] == jpda.vector_size(3, 3) == 7  # Table III
+    f = jpda.fast_op_count(4, 4)
+    assert g.loc[4, "fast algorithm adds + mults"] == f.additions + f.multiplications
+    assert g.loc[3, "length / eq. (1)"] == pytest.approx(7 / 34)
+    with pytest.raises(ValueError, match="22"):
+        ex.vector_growth([23])

@@ -25,6 +25,7 @@ from .optables import (
     instrumented_counts,
     parse_count_table,
     parse_ratio_table,
+    vector_growth,
 )
 from .timing import best_of, scaling_timings
 from .tracking import run_trackers, score_tracks, tracking_study, tracking_summary, tracking_trial
@@ -36,6 +37,7 @@ __all__ = [
     "parse_count_table",
     "parse_ratio_table",
     "half_up",
+    "vector_growth",
     "beta_literature_rule",
     "permanent_rect",
     "beta_by_permanents",

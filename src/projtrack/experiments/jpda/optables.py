@@ -4,7 +4,8 @@
 algorithm (with and without stored intermediate vectors) on all-ones MVMs;
 :func:`count_grid` lays a count dictionary out as a table; :func:`parse_count_table`
 and :func:`parse_ratio_table` read the paper's printed tables (transcribed as text),
-and :func:`half_up` rounds a ratio as the paper does.
+:func:`half_up` rounds a ratio as the paper does, and :func:`vector_growth` tabulates
+the vector length and the fast algorithm's cost along ``m = T``.
 """
 
 from __future__ import annotations
@@ -17,10 +18,11 @@ import numpy as np
 import pandas as pd
 
 from projtrack._validation import as_int
-from projtrack.jpda import OpCount, beta_enumerated, beta_paper
+from projtrack.jpda import (OpCount, beta_enumerated, beta_paper, count_feasible_events,
+                            fast_op_count, vector_size)
 
 __all__ = ["all_ones_mvm", "instrumented_counts", "count_grid", "parse_count_table",
-           "parse_ratio_table", "half_up"]
+           "parse_ratio_table", "half_up", "vector_growth"]
 
 Counts = dict[tuple[int, int], tuple[int, int]]
 
@@ -110,3 +112,24 @@ def half_up(num: int, den: int) -> float:
     num = as_int(num, "num")
     den = as_int(den, "den", minimum=1)
     return floor(Fraction(num, den) * 10 + Fraction(1, 2)) / 10
+
+
+def vector_growth(sizes: Sequence[int]) -> pd.DataFrame:
+    """Vector length (Table III's formula) and fast-algorithm cost along ``m = T = n``.
+
+    One row per ``n`` of ``sizes`` (at most 22): the vector length, ``2^m``, the additions
+    plus multiplications of :func:`projtrack.jpda.fast_op_count`, that cost over
+    ``T^2 m 2^m`` (rounded to 3 decimals) and the length over the eq. (1) event count.
+    """
+    sizes = _sizes(sizes)
+    if max(sizes) > 22:
+        raise ValueError(f"sizes must be <= 22 (the fast algorithm needs 2^m words), got {max(sizes)}")
+    growth = []
+    for n in sizes:
+        f = fast_op_count(n, n)
+        ops_n = f.additions + f.multiplications
+        growth.append({"m = T": n, "vector length": vector_size(n, n), "2^m": 2**n,
+                       "fast algorithm adds + mults": ops_n,
+                       "ops / (T^2 m 2^m)": round(ops_n / (n * n * n * 2**n), 3),
+                       "length / eq. (1)": vector_size(n, n) / count_feasible_events(n, n)})
+    return pd.DataFrame(growth).set_index("m = T")
