@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from projtrack._validation import as_int, as_probability, as_real, as_rng
+
 
 @dataclass
 class CrossingScene:
@@ -53,8 +55,9 @@ def cv_model(dt: float = 1.0, q: float = 0.01, r: float = 0.25) -> tuple[np.ndar
     ``q`` is the white-acceleration spectral density, ``r`` the position noise
     variance of each coordinate.
     """
-    if dt <= 0 or q < 0 or r <= 0:
-        raise ValueError("dt and r must be > 0 and q >= 0")
+    dt = as_real(dt, "dt", 0.0, low_open=True)
+    q = as_real(q, "q", 0.0)
+    r = as_real(r, "r", 0.0, low_open=True)
     f = np.array([[1.0, dt], [0.0, 1.0]])
     qb = q * np.array([[dt**3 / 3, dt**2 / 2], [dt**2 / 2, dt]])
     F = np.kron(np.eye(2), f)
@@ -89,14 +92,13 @@ def crossing_targets(rng: np.random.Generator, n_targets: int = 3, n_steps: int 
     q, r : float
         Process and measurement noise (see :func:`cv_model`).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
-    if n_targets < 1 or n_steps < 1:
-        raise ValueError("n_targets and n_steps must be >= 1")
-    if not 0 < p_detect <= 1:
-        raise ValueError(f"p_detect must lie in (0, 1], got {p_detect}")
-    if clutter_per_scan < 0 or size <= 0 or speed <= 0:
-        raise ValueError("clutter_per_scan must be >= 0, size and speed > 0")
+    rng = as_rng(rng)
+    n_targets = as_int(n_targets, "n_targets", minimum=1)
+    n_steps = as_int(n_steps, "n_steps", minimum=1)
+    speed = as_real(speed, "speed", 0.0, low_open=True)
+    p_detect = as_probability(p_detect, "p_detect", low_open=True)
+    clutter_per_scan = as_real(clutter_per_scan, "clutter_per_scan", 0.0)
+    size = as_real(size, "size", 0.0, low_open=True)
     F, Q, H, R = cv_model(1.0, q, r)
     rad = speed * n_steps / 2
     ang = np.pi * np.arange(n_targets) / n_targets
@@ -131,58 +133,16 @@ def random_mvm(rng: np.random.Generator, m: int, T: int, *, cluster_size: int | 
     into consecutive groups of ``cluster_size`` and only entries within a group are
     nonzero (independent clusters, the common case of well separated targets).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
-    if m < 0 or T < 1:
-        raise ValueError("m must be >= 0 and T >= 1")
-    if not 0 < p_detect <= 1:
-        raise ValueError(f"p_detect must lie in (0, 1], got {p_detect}")
+    rng = as_rng(rng)
+    m = as_int(m, "m", minimum=0)
+    T = as_int(T, "T", minimum=1)
+    p_detect = as_probability(p_detect, "p_detect", low_open=True)
     w = rng.uniform(0.05, 1.0, (m + 1, T))
     if cluster_size is not None:
-        if cluster_size < 1:
-            raise ValueError("cluster_size must be >= 1")
+        cluster_size = as_int(cluster_size, "cluster_size", minimum=1)
         gm = np.arange(m) // cluster_size
         gt = np.arange(T) // cluster_size
         w[1:] *= gm[:, None] == gt[None, :]
     w[0] = 1.0 - p_detect
     return w
 
-
-def score_tracks(estimates: np.ndarray, truth: np.ndarray, lost_distance: float = 3.0) -> dict:
-    """Position RMSE, swaps and losses of tracks started on their own targets.
-
-    ``estimates`` and ``truth`` have shape ``(n_steps, n_targets, 4)`` (state
-    ``(x, vx, y, vy)``). At the last step a track is *lost* when no true target is
-    within ``lost_distance``, and *swapped* when the nearest true target is not its
-    own. ``rmse`` is the root mean square position error of every track against its
-    own target over all steps.
-    """
-    est = np.asarray(estimates)[..., [0, 2]]
-    tru = np.asarray(truth)[..., [0, 2]]
-    if est.shape != tru.shape:
-        raise ValueError(f"estimates and truth must have the same shape, got {est.shape} and {tru.shape}")
-    rmse = float(np.sqrt(np.mean(np.sum((est - tru) ** 2, axis=-1))))
-    d = np.linalg.norm(est[-1][:, None, :] - tru[-1][None, :, :], axis=-1)
-    nearest = d.argmin(axis=1)
-    lost = d.min(axis=1) > lost_distance
-    swapped = (~lost) & (nearest != np.arange(len(nearest)))
-    return {"rmse": rmse, "swapped": int(swapped.sum()), "lost": int(lost.sum())}
-
-
-def tracking_trial(rng: np.random.Generator, **scene_kw) -> dict:
-    """One crossing scene tracked by JPDA and by GNN; returns their :func:`score_tracks`.
-
-    Both trackers start from the true initial states with covariance ``0.5 I`` (track
-    initiation is chapter 3's job) and use the simulation model; JPDA uses the
-    scene's ``p_detect`` and clutter density, both use a 0.99 gate.
-    """
-    from projtrack.jpda import GNNTracker, JPDATracker
-
-    sc = crossing_targets(rng, **scene_kw)
-    p_detect = scene_kw.get("p_detect", 0.9)
-    args = (sc.truth[0], 0.5 * np.eye(4), sc.F, sc.Q, sc.H, sc.R)
-    jp = JPDATracker(*args, p_detect=p_detect, clutter_density=sc.clutter_density)
-    gn = GNNTracker(*args)
-    est_j = np.array([jp.step(z) for z in sc.scans])
-    est_g = np.array([gn.step(z) for z in sc.scans])
-    return {"jpda": score_tracks(est_j, sc.truth[1:]), "gnn": score_tracks(est_g, sc.truth[1:])}

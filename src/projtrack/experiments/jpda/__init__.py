@@ -1,0 +1,56 @@
+"""Experiments of the JPDA chapter (Fisher & Casasent 1989).
+
+* :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data.
+* :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
+* :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
+* :mod:`~projtrack.experiments.jpda.analog`: beta errors of Fig. 5 with noisy detectors.
+* :mod:`~projtrack.experiments.jpda.timing`: wall-clock scaling of the exact beta methods.
+* :mod:`~projtrack.experiments.jpda.tracking`: crossing targets: JPDA and GNN against the truth.
+"""
+
+from __future__ import annotations
+
+from .analog import analog_accuracy, analog_trial
+from .crosschecks import (
+    beta_by_permanents,
+    beta_literature_rule,
+    clutter_sensitivity,
+    permanent_rect,
+)
+from .equivalence import equivalence_study, equivalence_trial
+from .optables import (
+    all_ones_mvm,
+    count_grid,
+    half_up,
+    instrumented_counts,
+    parse_count_table,
+    parse_ratio_table,
+    vector_growth,
+)
+from .timing import best_of, scaling_timings
+from .tracking import run_trackers, score_tracks, tracking_study, tracking_summary, tracking_trial
+
+__all__ = [
+    "all_ones_mvm",
+    "instrumented_counts",
+    "count_grid",
+    "parse_count_table",
+    "parse_ratio_table",
+    "half_up",
+    "vector_growth",
+    "beta_literature_rule",
+    "permanent_rect",
+    "beta_by_permanents",
+    "clutter_sensitivity",
+    "equivalence_trial",
+    "equivalence_study",
+    "analog_trial",
+    "analog_accuracy",
+    "best_of",
+    "scaling_timings",
+    "score_tracks",
+    "run_trackers",
+    "tracking_trial",
+    "tracking_study",
+    "tracking_summary",
+]

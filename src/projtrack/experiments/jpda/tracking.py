@@ -1,0 +1,114 @@
+"""Crossing-target tracking study of the JPDA chapter: JPDA against GNN on the same scenes.
+
+A trial draws one :func:`projtrack.scenes.jpda.crossing_targets` scene, tracks it with
+:class:`projtrack.jpda.JPDATracker` and :class:`projtrack.jpda.GNNTracker` started on the
+true initial states, and scores both against the ground truth (:func:`score_tracks`).
+:func:`tracking_study` runs the trials through :func:`projtrack.montecarlo.run` and
+:func:`tracking_summary` tabulates them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+
+from projtrack import montecarlo
+from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack.jpda import GNNTracker, JPDATracker
+from projtrack.scenes.jpda import CrossingScene, crossing_targets
+
+__all__ = ["score_tracks", "run_trackers", "tracking_trial", "tracking_study", "tracking_summary"]
+
+
+def score_tracks(estimates: np.ndarray, truth: np.ndarray, lost_distance: float = 3.0) -> dict:
+    """Position RMSE, swaps and losses of tracks started on their own targets.
+
+    ``estimates`` and ``truth`` have shape ``(n_steps, n_targets, 4)`` (state
+    ``(x, vx, y, vy)``). At the last step a track is *lost* when no true target is
+    within ``lost_distance``, and *swapped* when the nearest true target is not its
+    own. ``rmse`` is the root mean square position error of every track against its
+    own target over all steps.
+    """
+    est = as_array(estimates, "estimates", ndim=3)[..., [0, 2]]
+    tru = as_array(truth, "truth", ndim=3)[..., [0, 2]]
+    lost_distance = as_real(lost_distance, "lost_distance", 0.0, low_open=True)
+    if est.shape != tru.shape:
+        raise ValueError(f"estimates and truth must have the same shape, got {est.shape} and "
+                         f"{tru.shape}")
+    rmse = float(np.sqrt(np.mean(np.sum((est - tru) ** 2, axis=-1))))
+    d = np.linalg.norm(est[-1][:, None, :] - tru[-1][None, :, :], axis=-1)
+    nearest = d.argmin(axis=1)
+    lost = d.min(axis=1) > lost_distance
+    swapped = (~lost) & (nearest != np.arange(len(nearest)))
+    return {"rmse": rmse, "swapped": int(swapped.sum()), "lost": int(lost.sum())}
+
+
+def run_trackers(scene: CrossingScene, p_detect: float = 0.9) -> tuple[np.ndarray, np.ndarray]:
+    """Track one scene with JPDA and with GNN; returns their state estimates.
+
+    Both trackers start from the true initial states with covariance ``0.5 I`` (track
+    initiation is chapter 3's job) and use the simulation model; JPDA uses ``p_detect``
+    and the scene's clutter density, both use a 0.99 gate.
+
+    Returns
+    -------
+    (est_jpda, est_gnn) : ndarray, each of shape ``(n_steps, n_targets, 4)``
+    """
+    if not isinstance(scene, CrossingScene):
+        raise TypeError(f"scene must be a CrossingScene, got {type(scene).__name__}")
+    args = (scene.truth[0], 0.5 * np.eye(4), scene.F, scene.Q, scene.H, scene.R)
+    jp = JPDATracker(*args, p_detect=p_detect, clutter_density=scene.clutter_density)
+    gn = GNNTracker(*args)
+    est_j = np.array([jp.step(z) for z in scene.scans])
+    est_g = np.array([gn.step(z) for z in scene.scans])
+    return est_j, est_g
+
+
+def tracking_trial(rng: np.random.Generator, **scene_kw) -> dict:
+    """One crossing scene tracked by JPDA and by GNN; returns their :func:`score_tracks`.
+
+    ``scene_kw`` goes to :func:`projtrack.scenes.jpda.crossing_targets`; JPDA uses the
+    scene's ``p_detect`` (see :func:`run_trackers`).
+    """
+    rng = as_rng(rng)
+    sc = crossing_targets(rng, **scene_kw)
+    est_j, est_g = run_trackers(sc, p_detect=scene_kw.get("p_detect", 0.9))
+    return {"jpda": score_tracks(est_j, sc.truth[1:]), "gnn": score_tracks(est_g, sc.truth[1:])}
+
+
+def tracking_study(n_runs: int, seed: int, **scene_kw) -> list[dict]:
+    """``n_runs`` :func:`tracking_trial` results, run i on the i-th child of ``default_rng(seed)``.
+
+    Goes through :func:`projtrack.montecarlo.run`, so the results do not depend on the
+    number of worker processes; run ``i``'s scene is
+    ``crossing_targets(np.random.default_rng(seed).spawn(n_runs)[i], **scene_kw)``.
+    """
+    n_runs = as_int(n_runs, "n_runs", minimum=0)
+    seed = as_int(seed, "seed", minimum=0)
+    return montecarlo.run(tracking_trial, n_runs, np.random.default_rng(seed), **scene_kw)
+
+
+def tracking_summary(results: Sequence[dict]) -> pd.DataFrame:
+    """Table of a tracking study: one row per tracker (JPDA, GNN).
+
+    Columns: median and mean RMSE, tracks swapped, tracks lost (summed over runs) and
+    the number of runs in which every track ended on its own target.
+    """
+    if len(results) == 0:
+        raise ValueError("results must hold at least one trial")
+    for r in results:
+        if not isinstance(r, dict) or set(r) != {"jpda", "gnn"}:
+            raise ValueError("results must be tracking_trial outputs "
+                             "(dicts with keys 'jpda' and 'gnn')")
+    summary = pd.DataFrame({
+        k: {"median RMSE": float(np.median([r[k]["rmse"] for r in results])),
+            "mean RMSE": float(np.mean([r[k]["rmse"] for r in results])),
+            "tracks swapped": sum(r[k]["swapped"] for r in results),
+            "tracks lost": sum(r[k]["lost"] for r in results),
+            "runs with all tracks correct": sum(r[k]["swapped"] + r[k]["lost"] == 0
+                                                for r in results)}
+        for k in ("jpda", "gnn")}).T
+    summary.index = pd.Index(["JPDA", "GNN"], name="tracker")
+    return summary.astype({c: int for c in summary.columns if "RMSE" not in c})

@@ -1,0 +1,171 @@
+"""Experiments of the JPDA chapter: scoring, tracking study, equivalence, analog accuracy, op tables."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from projtrack import jpda
+from projtrack.experiments import jpda as ex
+from projtrack.scenes import jpda as scene
+
+
+def test_score_tracks_detects_swaps_and_losses():
+    truth = np.zeros((5, 2, 4))
+    truth[:, 1, 0] = 10.0
+    est = truth.copy()
+    assert ex.score_tracks(est, truth) == {"rmse": 0.0, "swapped": 0, "lost": 0}
+    swapped = est[:, ::-1]
+    s = ex.score_tracks(swapped, truth)
+    assert s["swapped"] == 2 and s["lost"] == 0 and s["rmse"] == pytest.approx(10.0)
+    far = est.copy()
+    far[-1, 0, 2] = 50.0
+    assert ex.score_tracks(far, truth)["lost"] == 1
+    with pytest.raises(ValueError, match="same shape"):
+        ex.score_tracks(est[:, :1], truth)
+    with pytest.raises(ValueError, match="lost_distance"):
+        ex.score_tracks(est, truth, lost_distance=0.0)
+
+
+def test_tracking_trial_is_reproducible():
+    a = ex.tracking_trial(np.random.default_rng(1), n_steps=8)
+    b = ex.tracking_trial(np.random.default_rng(1), n_steps=8)
+    assert a == b
+    assert set(a) == {"jpda", "gnn"}
+    with pytest.raises(TypeError, match="rng"):
+        ex.tracking_trial(1, n_steps=8)
+
+
+def test_run_trackers_follow_an_easy_scene():
+    sc = scene.crossing_targets(np.random.default_rng(3), n_targets=2, n_steps=6, clutter_per_scan=0.5)
+    est_j, est_g = ex.run_trackers(sc)
+    assert est_j.shape == est_g.shape == sc.truth[1:].shape
+    assert ex.score_tracks(est_j, sc.truth[1:])["lost"] == 0
+    with pytest.raises(TypeError, match="CrossingScene"):
+        ex.run_trackers(sc.truth)
+
+
+def test_tracking_study_matches_its_trials_and_summary_counts():
+    res = ex.tracking_study(3, 11, n_steps=6)
+    children = np.random.default_rng(11).spawn(3)
+    assert res == [ex.tracking_trial(c, n_steps=6) for c in children]
+    summary = ex.tracking_summary(res)
+    assert list(summary.index) == ["JPDA", "GNN"]
+    assert summary.loc["JPDA", "tracks lost"] == sum(r["jpda"]["lost"] for r in res)
+    assert summary.loc["GNN", "median RMSE"] == pytest.approx(np.median([r["gnn"]["rmse"] for r in res]))
+    with pytest.raises(ValueError, match="at least one"):
+        ex.tracking_summary([])
+    with pytest.raises(ValueError, match="tracking_trial outputs"):
+        ex.tracking_summary([{"jpda": {}}])
+
+
+def test_equivalence_trial_and_study():
+    row = ex.equivalence_trial(np.random.default_rng(0))
+    assert set(row) == {"paper", "fast", "sum", "pda", "size"}
+    assert row["paper"] < 1e-12 and row["fast"] < 1e-12 and row["sum"] < 1e-12
+    eq = ex.equivalence_study(5, 2024)
+    assert isinstance(eq, pd.DataFrame) and len(eq) == 5
+    assert eq["fast"].max() < 1e-12
+    with pytest.raises(ValueError, match="n_trials"):
+        ex.equivalence_study(0, 1)
+
+
+def test_analog_accuracy_grows_with_the_noise():
+    table, err = ex.analog_accuracy((0.0, 1e-3, 1e-1), 4, 8, size=4)
+    assert err.shape == (4, 3) and np.all(err[:, 0] == 0)
+    med = table.iloc[:, 0].to_numpy()
+    assert med[1] < med[2]
+    with pytest.raises(ValueError, match="levels"):
+        ex.analog_trial(np.random.default_rng(0), [-1.0])
+    with pytest.raises(TypeError, match="rng"):
+        ex.analog_trial(None, [0.1])
+
+
+def test_instrumented_counts_reproduce_the_closed_forms():
+    conv, fast, stored = ex.instrumented_counts([3, 4])
+    for (m, T), c in conv.items():
+        closed = jpda.conventional_op_count(m, T)
+        assert c == (closed.additions, closed.multiplications)
+        f = jpda.fast_op_count(m, T)
+        assert fast[m, T] == (f.additions, f.multiplications)
+        assert stored[m, T][1] <= fast[m, T][1]
+    assert conv[3, 3] == (54, 68)  # Table IV, m = T = 3
+    grid = ex.count_grid(conv, [3, 4])
+    assert grid.loc[3, 3] == "54/68" and grid.shape == (2, 2)
+    with pytest.raises(ValueError, match="no entry"):
+        ex.count_grid(conv, [3, 5])
+
+
+def test_paper_tables_are_parsed_and_rounded_like_the_paper():
+    assert ex.parse_count_table("1/2 3/4\n5/6 7/8", [1, 2]) == {
+        (1, 1): (1, 2), (1, 2): (3, 4), (2, 1): (5, 6), (2, 2): (7, 8)}
+    with pytest.raises(ValueError, match="cells"):
+        ex.parse_count_table("1/2 3/4", [1, 2])
+    # "0 9/1 3" is 0.9/1.3 with the decimal points lost
+    assert ex.parse_ratio_table("0 9/1 3", [7]) == {(7, 7): (0.9, 1.3)}
+    with pytest.raises(ValueError, match="tokens"):
+        ex.parse_ratio_table("0 9/1", [7])
+    assert ex.half_up(300, 240) == 1.3 and ex.half_up(1, 3) == 0.3
+    with pytest.raises(ValueError, match="den"):
+        ex.half_up(1, 0)
+    np.testing.assert_array_equal(ex.all_ones_mvm(2, 3)[0], 0.5)
+
+
+def test_literature_rule_equals_the_mvm_for_a_common_p_detect():
+    rng = np.random.default_rng(4)
+    w = rng.uniform(0.1, 1.0, (4, 3))
+    w[0] = 1 - 0.8
+    np.testing.assert_allclose(ex.beta_literature_rule(w, 0.8), jpda.beta(w), atol=1e-12)
+    # with target-dependent P_D the MVM's row 0 differs from the rule's constant: they differ
+    w[0] = [0.1, 0.3, 0.5]
+    assert np.abs(ex.beta_literature_rule(w, 0.8) - jpda.beta(w)).max() > 1e-3
+    with pytest.raises(ValueError, match="p_detect"):
+        ex.beta_literature_rule(w, 0.0)
+
+
+def test_beta_by_permanents_equals_beta():
+    assert ex.permanent_rect(np.array([[1.0, 2.0], [3.0, 4.0]])) == pytest.approx(10.0)
+    with pytest.raises(ValueError, match="no more rows"):
+        ex.permanent_rect(np.ones((3, 2)))
+    w = scene.random_mvm(np.random.default_rng(31), 3, 2)
+    np.testing.assert_allclose(ex.beta_by_permanents(w), jpda.beta(w), atol=1e-12)
+    w[0, 0] = 0.0
+    with pytest.raises(ValueError, match="row 0"):
+        ex.beta_by_permanents(w)
+
+
+def test_clutter_sensitivity_raises_beta0_with_the_density():
+    zp = np.array([[0.0, 0.0], [2.0, 0.0]])
+    S = np.repeat(np.eye(2)[None], 2, axis=0)
+    z = np.array([[0.3, 0.1], [1.8, -0.2]])
+    table = ex.clutter_sensitivity(z, zp, S, 0.9, (0.01, 1.0, 100.0))
+    assert list(table.columns) == ["0.01", "1", "100"] and list(table.index) == ["a", "b"]
+    assert np.all(np.diff(table.to_numpy(), axis=1) > 0)
+    with pytest.raises(ValueError, match="lambdas"):
+        ex.clutter_sensitivity(z, zp, S, 0.9, ())
+    with pytest.raises(ValueError, match="lambdas"):
+        ex.clutter_sensitivity(z, zp, S, 0.9, (0.0,))
+
+
+def test_scaling_timings_table_shape_and_limits():
+    calls = []
+    assert ex.best_of(lambda: calls.append(1), 3) >= 0 and len(calls) == 3
+    with pytest.raises(ValueError, match="repeats"):
+        ex.best_of(lambda: None, 0)
+    t = ex.scaling_timings([2, 3], 7, enumerate_max=2, paper_max=3, single_run_from=3)
+    assert list(t.index) == [2, 3]
+    assert t.loc[2, "events (Table I)"] == 7.0
+    assert np.isnan(t.loc[3, "enumerate"]) and np.isfinite(t.loc[3, "paper"])
+    assert np.all(t[["auto", "clustered: auto"]].to_numpy() > 0)
+    with pytest.raises(ValueError, match="cluster_size"):
+        ex.scaling_timings([2], 7, cluster_size=0)
+
+
+def test_vector_growth_table():
+    g = ex.vector_growth([3, 4])
+    assert list(g.index) == [3, 4]
+    assert g.loc[3, "vector length"] == jpda.vector_size(3, 3) == 7  # Table III
+    f = jpda.fast_op_count(4, 4)
+    assert g.loc[4, "fast algorithm adds + mults"] == f.additions + f.multiplications
+    assert g.loc[3, "length / eq. (1)"] == pytest.approx(7 / 34)
+    with pytest.raises(ValueError, match="22"):
+        ex.vector_growth([23])
