@@ -62,6 +62,13 @@ def test_odd_window_choice_rng_shape():
         V.as_choice("c", "m", ("a", "b"))
     with pytest.raises(ValueError, match="one of"):
         V.as_choice(1, "m", ("1",))
+    with pytest.raises(ValueError, match="one of"):
+        V.as_choice(True, "m", (1, 2))
+    with pytest.raises(ValueError, match="one of"):
+        V.as_choice(np.array([1, 2]), "m", (1, 2))
+    out = V.as_choice(np.str_("b"), "m", ("a", "b"))
+    assert out == "b" and type(out) is str
+    assert V.as_choice(np.int64(2), "m", (1, 2)) == 2
     rng = np.random.default_rng(0)
     assert V.as_rng(rng) is rng
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):

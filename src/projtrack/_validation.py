@@ -120,10 +120,21 @@ def as_odd_window(value: object, name: str) -> int:
 
 
 def as_choice(value: object, name: str, choices: Sequence[Any]) -> Any:
-    """``value`` if it is one of ``choices`` (compared with ``==``, strings only to strings)."""
+    """The member of ``choices`` equal to ``value``.
+
+    Strings match only strings (a ``numpy.str_`` is a string), and bools only bools, so
+    ``1`` does not pass for ``"1"`` nor ``True`` for ``1``. Returns the choice itself.
+    """
     for c in choices:
-        if type(value) is type(c) and value == c:
-            return value
+        if isinstance(c, str) != isinstance(value, str):
+            continue
+        if isinstance(c, (bool, np.bool_)) != isinstance(value, (bool, np.bool_)):
+            continue
+        try:
+            if bool(value == c):
+                return c
+        except (TypeError, ValueError):
+            continue
     listed = ", ".join(repr(c) for c in choices)
     raise ValueError(f"{name} must be one of {listed}, got {value!r}")
 
