@@ -64,3 +64,83 @@ def test_simulate_validates_its_arguments():
     with pytest.raises(ValueError, match="unit"):
         simulate(rng, 1, 1, 0.0, unit=0.0)
 
+
+# ----------------------------------------------------------------------------- studies
+from projtrack import montecarlo  # noqa: E402
+from projtrack.experiments.neuralnet import (TABLE1_KEYS, bound_direct_check, bound_trial,  # noqa: E402
+                                             evolution_trial, fixed_point_bound, sensitivity_cell,
+                                             sensitivity_trial, table1_study, table1_trial, truth_index)
+
+
+def test_table1_study_concatenates_the_trials_of_each_level():
+    out = table1_study([0.0, 2.5], 2, 1, 30)
+    assert list(out) == [0.0, 2.5]
+    for i, n in enumerate([0.0, 2.5]):
+        parts = montecarlo.run(table1_trial, 2, np.random.default_rng(30 + i), n, 1)
+        assert set(out[n]) == set(TABLE1_KEYS)
+        for k in TABLE1_KEYS:
+            np.testing.assert_array_equal(out[n][k], np.concatenate([p[k] for p in parts]))
+    with pytest.raises(ValueError, match="multiple"):
+        table1_study([0.0], 5, 2, 0)
+    with pytest.raises(ValueError, match="noise level"):
+        table1_study([-1.0], 2, 2, 0)
+    with pytest.raises(TypeError, match="noise_levels"):
+        table1_study(0.0, 2, 2, 0)
+
+
+def test_sensitivity_cell_counts_successes_and_wrong_stops():
+    ok, wrong = sensitivity_cell(0.0, 256, "ball", {}, [1, 2], 4, 2)
+    parts = montecarlo.run(sensitivity_trial, 2, np.random.default_rng([1, 2]), 0.0, 256, "ball", 2, {})
+    conv = np.concatenate([p["converged"] for p in parts])
+    good = np.concatenate([p["correct"] for p in parts])
+    assert (ok, wrong) == (int(good.sum()), int((conv & ~good).sum()))
+    assert 0 <= ok + wrong <= 4
+    # a huge unit makes D negligible: every admissible state is a fixed point, so runs stop, often wrong
+    ok_big, wrong_big = sensitivity_cell(0.0, 1e9, "ball", {"mode": "parallel"}, 3, 2, 2)
+    assert ok_big + wrong_big <= 2
+    with pytest.raises(TypeError, match="options"):
+        sensitivity_trial(np.random.default_rng(0), 0.0, 256, "ball", 1, None)
+
+
+def test_evolution_trial_records_every_sweep():
+    runs = evolution_trial(np.random.default_rng(55), 2)
+    assert len(runs) == 2
+    for r in runs:
+        h = r["history"]
+        assert h.shape[1:] == (4, 4, 5) and h.shape[0] >= 2
+        assert set(np.unique(h[1:])) <= {0.0, 1.0}
+        if r["correct"]:
+            A = nn.states_to_assignment(h[-1].astype(np.int8))
+            assert nn.is_correct_assignment(A, r["scene"].labels)
+            assert r["iterations"] <= h.shape[0] - 1
+    with pytest.raises(ValueError, match="n_runs"):
+        evolution_trial(np.random.default_rng(0), 0)
+
+
+def test_truth_index_points_at_the_true_assignment():
+    scene = make_tracks(np.random.default_rng(9), 4, 5, noise_percent=0.0)
+    D = nn.distance_tensor(scene.positions)
+    M = nn.assignment_max_sums(D)
+    t = truth_index(scene.labels)
+    assert len(t) == 4
+    np.testing.assert_allclose(M[t], 0.0, atol=1e-9)       # straight, evenly spaced tracks
+    assert np.sum(M < 1e-9) == 1                             # and no other assignment costs nothing
+    with pytest.raises(ValueError, match="labels"):
+        truth_index(np.zeros((5, 4), dtype=int))
+
+
+def test_bound_trial_and_study():
+    b = bound_trial(np.random.default_rng(1), 0.0)
+    assert b["truth"] < 1e-9 < b["wrong"]
+    noisy = fixed_point_bound([5.0], 2, 6001)
+    assert list(noisy) == [5.0] and len(noisy[5.0]) == 2
+    assert all(r["truth"] > 0 and r["wrong"] > 0 for r in noisy[5.0])
+    assert noisy[5.0] == montecarlo.run(bound_trial, 2, np.random.default_rng(6001), 5.0)
+
+
+def test_bound_direct_check_agrees_everywhere():
+    scene = make_tracks(np.random.default_rng(6100), 4, 5, noise_percent=0.0)
+    m, same, fixed = bound_direct_check(scene, 256)
+    assert m == 24 ** 3 and same == m and fixed >= 1
+    with pytest.raises(TypeError, match="TrackScene"):
+        bound_direct_check(scene.positions, 256)
