@@ -144,3 +144,61 @@ def test_bound_direct_check_agrees_everywhere():
     assert m == 24 ** 3 and same == m and fixed >= 1
     with pytest.raises(TypeError, match="TrackScene"):
         bound_direct_check(scene.positions, 256)
+
+
+# ----------------------------------------------------------------------------- batched nets
+from projtrack.experiments.neuralnet import (SimulationDraw, draw_simulation, run_draws,  # noqa: E402
+                                             score_simulation, sensitivity_cells, simulate_trials)
+
+
+def test_draw_run_score_is_simulate():
+    draw = draw_simulation(np.random.default_rng(3), 2, 2, 2.5)
+    assert isinstance(draw, SimulationDraw) and draw.X0.shape == (4, 4, 4, 5) and draw.D.shape == (2, 3, 4, 4, 4)
+    res = nn.run_net(np.repeat(draw.D, 2, axis=0), draw.X0)
+    got = score_simulation(draw, res)
+    want = simulate(np.random.default_rng(3), 2, 2, 2.5)
+    assert set(got) == set(want)
+    for k in want:
+        np.testing.assert_array_equal(got[k], want[k])
+    with pytest.raises(TypeError, match="draw"):
+        score_simulation(res, res)
+    with pytest.raises(ValueError, match="shape"):
+        score_simulation(draw_simulation(np.random.default_rng(3), 1, 1, 0.0), res)
+
+
+def test_batched_trials_equal_trials_run_one_by_one():
+    one_by_one = montecarlo.run(simulate, 3, np.random.default_rng(11), 2, 2, 5.0, references=False,
+                                self_coupling=False)
+    batched = simulate_trials(3, np.random.default_rng(11), 2, 2, 5.0, references=False, self_coupling=False)
+    assert len(batched) == 3
+    for a, b in zip(one_by_one, batched):
+        for k in a:
+            np.testing.assert_array_equal(a[k], b[k])
+    assert simulate_trials(0, np.random.default_rng(0), 1, 1, 0.0) == []
+
+
+def test_run_draws_splits_the_batch_back():
+    draws = [draw_simulation(np.random.default_rng(s), 1 + s, 2, 0.0) for s in range(3)]
+    results = run_draws(draws, max_iter=3)
+    assert [len(r.states) for r in results] == [2, 4, 6]
+    for d, r in zip(draws, results):
+        alone = nn.run_net(np.repeat(d.D, 2, axis=0), d.X0, max_iter=3)
+        np.testing.assert_array_equal(r.states, alone.states)
+        np.testing.assert_array_equal(r.iterations, alone.iterations)
+        np.testing.assert_array_equal(r.status, alone.status)
+    with pytest.raises(TypeError, match="draws"):
+        run_draws([])
+    with pytest.raises(ValueError, match="share"):
+        run_draws([draws[0], draw_simulation(np.random.default_rng(0), 1, 1, 0.0, n_targets=3)])
+
+
+def test_sensitivity_cells_equal_single_cells_in_any_grouping():
+    cells = [(0.0, 256, "ball", {}, [1]), (5.0, 2048, "radial", {"self_coupling": False}, [2]),
+             (2.5, 1024, "ball", {}, [3])]
+    many = sensitivity_cells(cells, 2, 1)
+    assert many == [sensitivity_cell(*c, 2, 1) for c in cells]
+    assert sensitivity_cells(cells[::-1], 2, 1) == many[::-1]
+    with pytest.raises(ValueError, match="cells"):
+        sensitivity_cells([(0.0, 256, "ball", {})], 2, 1)
+    with pytest.raises(TypeError, match="options"):
+        sensitivity_cells([(0.0, 256, "ball", None, 0)], 2, 1)

@@ -1,12 +1,16 @@
 """The Monte Carlo studies of the Table 1 chapter: success rates, Fig. 5 runs, the fixed-point bound.
 
 Every study draws its trials through :func:`projtrack.montecarlo.run`, so its results do
-not depend on ``n_jobs``. A trial function takes the trial's generator first:
+not depend on ``n_jobs``. A trial function takes the trial's generator first. The studies
+draw every trial's data sets and starts first and then run the nets of all trials that share
+an update rule as one batch (:func:`projtrack.experiments.neuralnet.run_draws`), with the
+same results as running the trial functions one by one:
 
 * :func:`table1_trial` / :func:`table1_study`: the paper's simulations (own data set and own
   start each) at several noise levels, scored as in Table 1;
-* :func:`sensitivity_trial` / :func:`sensitivity_cell`: the same under another reading of the
-  paper (unit of D, update rule, noise law), reduced to counts of successes and wrong stops;
+* :func:`sensitivity_trial` / :func:`sensitivity_cell` / :func:`sensitivity_cells`: the same under
+  another reading of the paper (unit of D, update rule, noise law), reduced to counts of
+  successes and wrong stops;
 * :func:`evolution_trial`: noise-free runs with their recorded states (Fig. 5);
 * :func:`bound_trial` / :func:`fixed_point_bound`: for one data set, the largest summed
   distance of the true assignment's neurons and the smallest one of any wrong assignment
@@ -29,7 +33,7 @@ from projtrack.neuralnet import (assignment_max_sums, distance_tensor, fixed_poi
                                  is_correct_assignment, is_fixed_point, run_net, states_to_assignment)
 from projtrack.scenes.tracks3d import TrackScene, make_tracks
 
-from .table1 import simulate
+from .table1 import draw_simulation, run_draws, score_simulation, simulate
 
 __all__ = [
     "TABLE1_KEYS",
@@ -37,6 +41,7 @@ __all__ = [
     "table1_study",
     "sensitivity_trial",
     "sensitivity_cell",
+    "sensitivity_cells",
     "evolution_trial",
     "truth_index",
     "bound_trial",
@@ -79,7 +84,8 @@ def table1_study(noise_levels: Sequence[float], n_runs: int, chunk: int, seed: i
     """Table 1 as a Monte Carlo study: ``n_runs`` simulations per noise level.
 
     Level ``i`` draws ``n_runs // chunk`` trials of :func:`table1_trial` (``chunk``
-    simulations each) from ``numpy.random.default_rng(seed + i)``.
+    simulations each) from ``numpy.random.default_rng(seed + i)``; the nets of all trials
+    and levels run as one batch, with the results of running the trials one by one.
 
     Parameters
     ----------
@@ -100,9 +106,12 @@ def table1_study(noise_levels: Sequence[float], n_runs: int, chunk: int, seed: i
     levels = _as_noise_levels(noise_levels)
     n_trials = _as_trials(n_runs, chunk, "n_runs")
     seed = as_int(seed, "seed", minimum=0)
+    draws = {n: montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed + i), chunk, 1, n)
+             for i, n in enumerate(levels)}
+    results = iter(run_draws([d for n in levels for d in draws[n]]))   # all nets of all levels at once
     out = {}
-    for i, n in enumerate(levels):
-        parts = montecarlo.run(table1_trial, n_trials, np.random.default_rng(seed + i), n, chunk)
+    for n in levels:
+        parts = [score_simulation(d, next(results)) for d in draws[n]]
         out[n] = {k: np.concatenate([p[k] for p in parts]) for k in TABLE1_KEYS}
     return out
 
@@ -137,12 +146,46 @@ def sensitivity_cell(noise_percent: float, unit: float, noise_law: str, options:
     wrong : int
         Converged to a wrong assignment.
     """
+    return sensitivity_cells([(noise_percent, unit, noise_law, options, seed)], n_runs, chunk)[0]
+
+
+def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], object]], n_runs: int, chunk: int
+                      ) -> list[tuple[int, int]]:
+    """:func:`sensitivity_cell` for many cells, the nets of all cells with the same options in one batch.
+
+    Parameters
+    ----------
+    cells : sequence of (noise_percent, unit, noise_law, options, seed)
+        The arguments of :func:`sensitivity_cell` for each cell.
+    n_runs, chunk : int
+        Simulations per cell and per Monte Carlo trial.
+
+    Returns
+    -------
+    list of (successes, wrong)
+        In the order of ``cells``; equal to ``[sensitivity_cell(*c, n_runs, chunk) for c in cells]``.
+    """
     n_trials = _as_trials(n_runs, chunk, "n_runs")
-    parts = montecarlo.run(sensitivity_trial, n_trials, np.random.default_rng(seed), noise_percent, unit,
-                           noise_law, chunk, options)
-    conv = np.concatenate([p["converged"] for p in parts])
-    ok = np.concatenate([p["correct"] for p in parts])
-    return int(ok.sum()), int((conv & ~ok).sum())
+    cells = list(cells)
+    draws, groups = [], {}
+    for j, cell in enumerate(cells):
+        if not isinstance(cell, (tuple, list)) or len(cell) != 5:
+            raise ValueError(f"cells[{j}] must be (noise_percent, unit, noise_law, options, seed), got {cell!r}")
+        noise, unit, law, options, seed = cell
+        if not isinstance(options, dict):
+            raise TypeError(f"options must be a dict of keyword arguments, got {type(options).__name__}")
+        draws.append(montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed), chunk, 1, noise,
+                                    noise_law=law, unit=float(unit)))
+        groups.setdefault(tuple(sorted(options.items())), []).append(j)
+    out: list[tuple[int, int]] = [(0, 0)] * len(cells)
+    for key, members in groups.items():
+        results = iter(run_draws([d for j in members for d in draws[j]], **dict(key)))
+        for j in members:
+            parts = [score_simulation(d, next(results), references=False) for d in draws[j]]
+            conv = np.concatenate([p["converged"] for p in parts])
+            ok = np.concatenate([p["correct"] for p in parts])
+            out[j] = (int(ok.sum()), int((conv & ~ok).sum()))
+    return out
 
 
 def evolution_trial(rng: np.random.Generator, n_runs: int) -> list[dict[str, Any]]:
