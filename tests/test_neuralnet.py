@@ -204,14 +204,6 @@ def test_references_find_noise_free_tracks():
     assert A.shape == (4, 5) and all(sorted(A[:, a]) == [0, 1, 2, 3] for a in range(5))
 
 
-def test_simulate_small_is_deterministic():
-    a = nn.simulate(np.random.default_rng(2), 3, 2, 0.0)
-    b = nn.simulate(np.random.default_rng(2), 3, 2, 0.0)
-    for key in a:
-        np.testing.assert_array_equal(a[key], b[key])
-    assert a["correct"].shape == (6,) and a["optimal_correct"].shape == (3,)
-
-
 # ----------------------------------------------------------------------------- padding, scenes
 def test_pad_measurements_zero_vectors():
     frames = [np.ones((3, 3)), np.ones((2, 3)), np.ones((3, 3))]
@@ -326,14 +318,8 @@ def test_assignment_cost_rejects_bad_indices():
         nn.coordinate_descent_assignment(D, initial=too_big)
 
 
-def test_simulate_and_make_tracks_reject_negative_noise():
+def test_make_tracks_rejects_negative_noise():
     rng = np.random.default_rng(4)
-    with pytest.raises(ValueError, match="noise_percent"):
-        nn.simulate(rng, 1, 1, -1.0)
-    with pytest.raises(ValueError, match="noise_percent"):
-        nn.simulate(rng, 1, 1, float("nan"))
-    with pytest.raises(TypeError, match="noise_percent"):
-        nn.simulate(rng, 1, 1, "5")
     with pytest.raises(ValueError, match="noise_percent"):
         make_tracks(rng, 4, 5, noise_percent=-0.5)
 
@@ -468,7 +454,7 @@ def test_noise_laws_stay_within_n_percent_and_differ_in_spread(law):
         assert np.all(np.abs(d) <= 0.05 * np.abs(r) + 1e-12)
 
 
-def test_noise_law_reaches_make_tracks_and_simulate():
+def test_noise_law_reaches_make_tracks():
     a = make_tracks(np.random.default_rng(3), 4, 5, noise_percent=5.0, noise_law="radial")
     b = make_tracks(np.random.default_rng(3), 4, 5, noise_percent=5.0, noise_law="coordinate")
     np.testing.assert_array_equal(a.truth, b.truth)
@@ -477,9 +463,6 @@ def test_noise_law_reaches_make_tracks_and_simulate():
     ratio = np.linalg.norm(a.positions, axis=2) / np.linalg.norm(ta, axis=2)
     np.testing.assert_allclose(np.cross(a.positions, ta), 0.0, atol=1e-8)
     assert np.all(np.abs(ratio - 1) <= 0.05 + 1e-12)
-    r1 = nn.simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
-    r2 = nn.simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
-    np.testing.assert_array_equal(r1["iterations"], r2["iterations"])
 
 
 def test_noise_law_is_validated():
@@ -490,5 +473,3 @@ def test_noise_law_is_validated():
         perturb(rng, np.ones((2, 3)), 1.0, 1)
     with pytest.raises(ValueError, match="noise_law"):
         make_tracks(rng, 4, 5, noise_percent=1.0, noise_law="uniform")
-    with pytest.raises(ValueError, match="noise_law"):
-        nn.simulate(rng, 1, 1, 1.0, noise_law="Ball")

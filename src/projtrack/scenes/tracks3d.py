@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from projtrack._validation import as_choice, as_int, as_real, as_rng
+
 __all__ = ["TrackScene", "make_tracks", "perturb", "degrade", "NOISE_LAWS"]
 
 #: The readings of the paper's noise, see :func:`perturb`.
@@ -61,18 +63,10 @@ class TrackScene:
     field: float
 
 
-def _check_rng(rng: object) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    return rng
-
-
 def _check_noise_law(noise_law: object) -> str:
     if not isinstance(noise_law, str):
         raise TypeError(f"noise_law must be a str, got {type(noise_law).__name__}")
-    if noise_law not in NOISE_LAWS:
-        raise ValueError(f"noise_law must be one of {NOISE_LAWS}, got {noise_law!r}")
-    return noise_law
+    return as_choice(noise_law, "noise_law", NOISE_LAWS)
 
 
 def perturb(rng: np.random.Generator, positions: np.ndarray, noise_percent: float,
@@ -99,14 +93,13 @@ def perturb(rng: np.random.Generator, positions: np.ndarray, noise_percent: floa
     ndarray
         Perturbed positions, same shape.
     """
-    _check_rng(rng)
+    as_rng(rng)
     r = np.asarray(positions, dtype=float)
     if r.ndim < 1 or r.shape[-1] < 1:
         raise ValueError(f"positions must have shape (..., dim), got {r.shape}")
     if not np.all(np.isfinite(r)):
         raise ValueError("positions must be finite")
-    if not np.isfinite(noise_percent) or noise_percent < 0:
-        raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
+    noise_percent = as_real(noise_percent, "noise_percent", 0.0)
     _check_noise_law(noise_law)
     eps = noise_percent / 100.0
     if noise_law == "radial":
@@ -154,18 +147,11 @@ def make_tracks(rng: np.random.Generator, n_targets: int = 4, n_frames: int = 5,
     -------
     TrackScene
     """
-    _check_rng(rng)
-    for name, value in (("n_targets", n_targets), ("n_frames", n_frames)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-            raise TypeError(f"{name} must be an int, got {type(value).__name__}")
-    if n_targets < 1:
-        raise ValueError(f"n_targets must be >= 1, got {n_targets}")
-    if n_frames < 2:
-        raise ValueError(f"n_frames must be >= 2, got {n_frames}")
-    if not (np.isfinite(field) and field > 0):
-        raise ValueError(f"field must be > 0, got {field}")
-    if not np.isfinite(noise_percent) or noise_percent < 0:
-        raise ValueError(f"noise_percent must be a finite number >= 0, got {noise_percent}")
+    as_rng(rng)
+    n_targets = as_int(n_targets, "n_targets", minimum=1)
+    n_frames = as_int(n_frames, "n_frames", minimum=2)
+    field = as_real(field, "field", 0.0, low_open=True)
+    noise_percent = as_real(noise_percent, "noise_percent", 0.0)
     _check_noise_law(noise_law)
     if not (0 < max_length <= 1):
         raise ValueError(f"max_length must be in (0, 1], got {max_length}")
@@ -209,7 +195,7 @@ def degrade(rng: np.random.Generator, scene: TrackScene, n_spurious: int = 0, n_
         missing detection of target ``i`` is labelled ``i`` (assigning it to target ``i``
         is the right answer).
     """
-    _check_rng(rng)
+    as_rng(rng)
     if not isinstance(scene, TrackScene):
         raise TypeError(f"scene must be a TrackScene, got {type(scene).__name__}")
     for name, v in (("n_spurious", n_spurious), ("n_missing", n_missing)):

@@ -1,0 +1,204 @@
+"""Tests of projtrack.experiments.neuralnet (the Sec. VI experiment of Barnard & Casasent)."""
+
+import numpy as np
+import pytest
+
+from projtrack import neuralnet as nn
+from projtrack.experiments.neuralnet import simulate
+from projtrack.scenes.tracks3d import make_tracks
+
+
+def test_simulate_small_is_deterministic():
+    a = simulate(np.random.default_rng(2), 3, 2, 0.0)
+    b = simulate(np.random.default_rng(2), 3, 2, 0.0)
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])
+    assert a["correct"].shape == (6,) and a["optimal_correct"].shape == (3,)
+    np.testing.assert_array_equal(a["dataset"], [0, 0, 1, 1, 2, 2])
+
+
+def test_simulate_scores_runs_against_the_scenes_it_draws():
+    # the same draws by hand: data sets first, then the starts, then one batch of nets
+    rng = np.random.default_rng(8)
+    scenes = [make_tracks(rng, 4, 5, noise_percent=0.0) for _ in range(2)]
+    D = nn.distance_tensor(np.stack([s.positions for s in scenes]) / 256.0)
+    X0 = nn.initial_states(rng, 6, 4, 4, 5)
+    res = nn.run_net(np.repeat(D, 3, axis=0), X0)
+    want = [res.status[k] == "converged" and
+            nn.is_correct_assignment(nn.states_to_assignment(res.states[k]), scenes[k // 3].labels)
+            for k in range(6)]
+    out = simulate(np.random.default_rng(8), 2, 3, 0.0)
+    np.testing.assert_array_equal(out["correct"], want)
+    np.testing.assert_array_equal(out["iterations"], res.iterations)
+    # noise-free straight tracks: the exact optimum is the truth and costs nothing
+    np.testing.assert_array_equal(out["optimal_correct"], [1.0, 1.0])
+    np.testing.assert_allclose(out["true_cost"], 0.0, atol=1e-12)
+    assert np.all(out["optimal_cost"] <= out["true_cost"] + 1e-12)
+
+
+def test_simulate_without_references_and_beyond_the_exact_size():
+    out = simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
+    assert set(out) == {"dataset", "status", "iterations", "converged", "correct"}
+    again = simulate(np.random.default_rng(5), 3, 1, 2.5, noise_law="coordinate", references=False)
+    np.testing.assert_array_equal(out["iterations"], again["iterations"])
+    big = simulate(np.random.default_rng(1), 1, 1, 0.0, n_targets=5, exact_max_targets=4, max_iter=2)
+    assert np.isnan(big["optimal_correct"][0]) and np.isnan(big["optimal_cost"][0])
+
+
+def test_simulate_validates_its_arguments():
+    rng = np.random.default_rng(4)
+    with pytest.raises(ValueError, match="noise_percent"):
+        simulate(rng, 1, 1, -1.0)
+    with pytest.raises(ValueError, match="noise_percent"):
+        simulate(rng, 1, 1, float("nan"))
+    with pytest.raises(TypeError, match="noise_percent"):
+        simulate(rng, 1, 1, "5")
+    with pytest.raises(ValueError, match="noise_law"):
+        simulate(rng, 1, 1, 1.0, noise_law="Ball")
+    with pytest.raises(TypeError, match="rng"):
+        simulate(42, 1, 1, 0.0)
+    with pytest.raises(ValueError, match="n_datasets"):
+        simulate(rng, 0, 1, 0.0)
+    with pytest.raises(TypeError, match="n_starts"):
+        simulate(rng, 1, 1.5, 0.0)
+    with pytest.raises(ValueError, match="unit"):
+        simulate(rng, 1, 1, 0.0, unit=0.0)
+
+
+# ----------------------------------------------------------------------------- studies
+from projtrack import montecarlo  # noqa: E402
+from projtrack.experiments.neuralnet import (TABLE1_KEYS, bound_direct_check, bound_trial,  # noqa: E402
+                                             evolution_trial, fixed_point_bound, sensitivity_cell,
+                                             sensitivity_trial, table1_study, table1_trial, truth_index)
+
+
+def test_table1_study_concatenates_the_trials_of_each_level():
+    out = table1_study([0.0, 2.5], 2, 1, 30)
+    assert list(out) == [0.0, 2.5]
+    for i, n in enumerate([0.0, 2.5]):
+        parts = montecarlo.run(table1_trial, 2, np.random.default_rng(30 + i), n, 1)
+        assert set(out[n]) == set(TABLE1_KEYS)
+        for k in TABLE1_KEYS:
+            np.testing.assert_array_equal(out[n][k], np.concatenate([p[k] for p in parts]))
+    with pytest.raises(ValueError, match="multiple"):
+        table1_study([0.0], 5, 2, 0)
+    with pytest.raises(ValueError, match="noise level"):
+        table1_study([-1.0], 2, 2, 0)
+    with pytest.raises(TypeError, match="noise_levels"):
+        table1_study(0.0, 2, 2, 0)
+
+
+def test_sensitivity_cell_counts_successes_and_wrong_stops():
+    ok, wrong = sensitivity_cell(0.0, 256, "ball", {}, [1, 2], 4, 2)
+    parts = montecarlo.run(sensitivity_trial, 2, np.random.default_rng([1, 2]), 0.0, 256, "ball", 2, {})
+    conv = np.concatenate([p["converged"] for p in parts])
+    good = np.concatenate([p["correct"] for p in parts])
+    assert (ok, wrong) == (int(good.sum()), int((conv & ~good).sum()))
+    assert 0 <= ok + wrong <= 4
+    # a huge unit makes D negligible: every admissible state is a fixed point, so runs stop, often wrong
+    ok_big, wrong_big = sensitivity_cell(0.0, 1e9, "ball", {"mode": "parallel"}, 3, 2, 2)
+    assert ok_big + wrong_big <= 2
+    with pytest.raises(TypeError, match="options"):
+        sensitivity_trial(np.random.default_rng(0), 0.0, 256, "ball", 1, None)
+
+
+def test_evolution_trial_records_every_sweep():
+    runs = evolution_trial(np.random.default_rng(55), 2)
+    assert len(runs) == 2
+    for r in runs:
+        h = r["history"]
+        assert h.shape[1:] == (4, 4, 5) and h.shape[0] >= 2
+        assert set(np.unique(h[1:])) <= {0.0, 1.0}
+        if r["correct"]:
+            A = nn.states_to_assignment(h[-1].astype(np.int8))
+            assert nn.is_correct_assignment(A, r["scene"].labels)
+            assert r["iterations"] <= h.shape[0] - 1
+    with pytest.raises(ValueError, match="n_runs"):
+        evolution_trial(np.random.default_rng(0), 0)
+
+
+def test_truth_index_points_at_the_true_assignment():
+    scene = make_tracks(np.random.default_rng(9), 4, 5, noise_percent=0.0)
+    D = nn.distance_tensor(scene.positions)
+    M = nn.assignment_max_sums(D)
+    t = truth_index(scene.labels)
+    assert len(t) == 4
+    np.testing.assert_allclose(M[t], 0.0, atol=1e-9)       # straight, evenly spaced tracks
+    assert np.sum(M < 1e-9) == 1                             # and no other assignment costs nothing
+    with pytest.raises(ValueError, match="labels"):
+        truth_index(np.zeros((5, 4), dtype=int))
+
+
+def test_bound_trial_and_study():
+    b = bound_trial(np.random.default_rng(1), 0.0)
+    assert b["truth"] < 1e-9 < b["wrong"]
+    noisy = fixed_point_bound([5.0], 2, 6001)
+    assert list(noisy) == [5.0] and len(noisy[5.0]) == 2
+    assert all(r["truth"] > 0 and r["wrong"] > 0 for r in noisy[5.0])
+    assert noisy[5.0] == montecarlo.run(bound_trial, 2, np.random.default_rng(6001), 5.0)
+
+
+def test_bound_direct_check_agrees_everywhere():
+    scene = make_tracks(np.random.default_rng(6100), 4, 5, noise_percent=0.0)
+    m, same, fixed = bound_direct_check(scene, 256)
+    assert m == 24 ** 3 and same == m and fixed >= 1
+    with pytest.raises(TypeError, match="TrackScene"):
+        bound_direct_check(scene.positions, 256)
+
+
+# ----------------------------------------------------------------------------- batched nets
+from projtrack.experiments.neuralnet import (SimulationDraw, draw_simulation, run_draws,  # noqa: E402
+                                             score_simulation, sensitivity_cells, simulate_trials)
+
+
+def test_draw_run_score_is_simulate():
+    draw = draw_simulation(np.random.default_rng(3), 2, 2, 2.5)
+    assert isinstance(draw, SimulationDraw) and draw.X0.shape == (4, 4, 4, 5) and draw.D.shape == (2, 3, 4, 4, 4)
+    res = nn.run_net(np.repeat(draw.D, 2, axis=0), draw.X0)
+    got = score_simulation(draw, res)
+    want = simulate(np.random.default_rng(3), 2, 2, 2.5)
+    assert set(got) == set(want)
+    for k in want:
+        np.testing.assert_array_equal(got[k], want[k])
+    with pytest.raises(TypeError, match="draw"):
+        score_simulation(res, res)
+    with pytest.raises(ValueError, match="shape"):
+        score_simulation(draw_simulation(np.random.default_rng(3), 1, 1, 0.0), res)
+
+
+def test_batched_trials_equal_trials_run_one_by_one():
+    one_by_one = montecarlo.run(simulate, 3, np.random.default_rng(11), 2, 2, 5.0, references=False,
+                                self_coupling=False)
+    batched = simulate_trials(3, np.random.default_rng(11), 2, 2, 5.0, references=False, self_coupling=False)
+    assert len(batched) == 3
+    for a, b in zip(one_by_one, batched):
+        for k in a:
+            np.testing.assert_array_equal(a[k], b[k])
+    assert simulate_trials(0, np.random.default_rng(0), 1, 1, 0.0) == []
+
+
+def test_run_draws_splits_the_batch_back():
+    draws = [draw_simulation(np.random.default_rng(s), 1 + s, 2, 0.0) for s in range(3)]
+    results = run_draws(draws, max_iter=3)
+    assert [len(r.states) for r in results] == [2, 4, 6]
+    for d, r in zip(draws, results):
+        alone = nn.run_net(np.repeat(d.D, 2, axis=0), d.X0, max_iter=3)
+        np.testing.assert_array_equal(r.states, alone.states)
+        np.testing.assert_array_equal(r.iterations, alone.iterations)
+        np.testing.assert_array_equal(r.status, alone.status)
+    with pytest.raises(TypeError, match="draws"):
+        run_draws([])
+    with pytest.raises(ValueError, match="share"):
+        run_draws([draws[0], draw_simulation(np.random.default_rng(0), 1, 1, 0.0, n_targets=3)])
+
+
+def test_sensitivity_cells_equal_single_cells_in_any_grouping():
+    cells = [(0.0, 256, "ball", {}, [1]), (5.0, 2048, "radial", {"self_coupling": False}, [2]),
+             (2.5, 1024, "ball", {}, [3])]
+    many = sensitivity_cells(cells, 2, 1)
+    assert many == [sensitivity_cell(*c, 2, 1) for c in cells]
+    assert sensitivity_cells(cells[::-1], 2, 1) == many[::-1]
+    with pytest.raises(ValueError, match="cells"):
+        sensitivity_cells([(0.0, 256, "ball", {})], 2, 1)
+    with pytest.raises(TypeError, match="options"):
+        sensitivity_cells([(0.0, 256, "ball", None, 0)], 2, 1)
