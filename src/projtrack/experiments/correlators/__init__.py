@@ -1,0 +1,26 @@
+"""Experiments of the projection-correlation chapter (Casasent & Song 1988): the studies its notebooks run.
+
+Modules
+-------
+* :mod:`~projtrack.experiments.correlators.scoring`: printed values against our draws, and
+  the plausibility of the paper's error counts.
+* :mod:`~projtrack.experiments.correlators.recognition`: the 26-letter recognition test as
+  Monte Carlo noise sweeps (noise level, extent and law).
+* :mod:`~projtrack.experiments.correlators.objects`: several objects located by projection
+  correlations: scenes, matching to the truth, random-scene and ideal-detector studies.
+"""
+
+from __future__ import annotations
+
+from .objects import (IDEAL_KEYS, energy_count, ideal_detector_study, ideal_ghosts, match_positions,
+                      place_objects, random_positions, random_scene_study, switching_pair,
+                      unique_from_projections)
+from .recognition import noise_extent_study, noise_sweep
+from .scoring import counts_consistent, error_count_pmf, inside_widened, last_perfect
+
+__all__ = [
+    "inside_widened", "error_count_pmf", "counts_consistent", "last_perfect",
+    "noise_sweep", "noise_extent_study",
+    "place_objects", "energy_count", "match_positions", "random_positions", "random_scene_study",
+    "switching_pair", "ideal_ghosts", "unique_from_projections", "ideal_detector_study", "IDEAL_KEYS",
+]
