@@ -161,3 +161,51 @@ def test_ideal_ghosts_and_study():
     r = EX.ideal_detector_study(5, np.random.default_rng(11))
     assert r.shape == (5, len(EX.IDEAL_KEYS) + 1) and r.dtype == bool
     assert np.array_equal(r, EX.ideal_detector_study(5, np.random.default_rng(11)))
+
+
+# ---------------------------------------------------------------------- autocorrelation
+C_BIN = letters.render_letter("C")
+
+
+def test_in_frame_centres_the_image():
+    f = EX.in_frame(C_BIN, 64)
+    assert f.shape == (64, 64) and f.sum() == C_BIN.sum() and np.array_equal(f[16:48, 16:48], C_BIN)
+    assert EX.in_frame(np.ones((3, 3)), 6)[1:4, 1:4].all()
+    with pytest.raises(ValueError, match="size"):
+        EX.in_frame(C_BIN, 16)
+
+
+def test_peak_measures_of_a_binary_letter():
+    m = EX.peak_measures(C_BIN, C_BIN)
+    n = C_BIN.sum()
+    assert m["2-D"][0] == pytest.approx(n)  # autocorrelation peak of a binary image = pixels on
+    # a projection autocorrelation peak is the energy of the projection, above the 2-D peak
+    for name, theta in (("vertical", 0), ("horizontal", 90)):
+        assert m[name][0] == pytest.approx(np.sum(C.project(C_BIN, theta) ** 2)) and m[name][0] > n
+        assert m[name][1] > 0
+
+
+def test_psr_as_row_dilutes_the_sidelobes():
+    c = np.array([1.0, 2.0, 10.0, 2.0, 1.0])
+    # sidelobe mean (1 + 2 + 2 + 1) / 24 over the 5 x 5 window (peak excluded)
+    assert EX.psr_as_row(c, 5) == pytest.approx(10.0 / (6.0 / 24))
+    assert EX.psr_as_row(c, 5) > C.psr(c, 5)
+    with pytest.raises(ValueError, match="odd"):
+        EX.psr_as_row(c, 4)
+
+
+def test_noisy_study_and_peak_at_centre():
+    frame = EX.in_frame(C_BIN, 48)
+    ref = C.zero_mean(frame)
+    d = EX.noisy_study(frame, ref, 0.0, 2, np.random.default_rng(0), extent=None, cyclic=True)
+    assert list(d.columns) == list(EX.NOISY_QUANTITIES) and len(d) == 2
+    clean = EX.noisy_measures(ref, ref, cyclic=True)
+    assert np.allclose(d.iloc[0].to_numpy(), clean)  # sigma 0: the zero-mean letter itself
+    lin = EX.noisy_study(frame, ref, 0.3, 3, np.random.default_rng(1), extent=32, cyclic=False)
+    assert lin["2-D peak"].std() > 0
+    hits = EX.peak_at_centre_study(frame, ref, 0.0, 2, np.random.default_rng(0))
+    assert hits.shape == (2, 3) and hits.all()
+    with pytest.raises(ValueError, match="same shape"):
+        EX.noisy_study(frame, C_BIN, 0.1, 1, np.random.default_rng(0), extent=None, cyclic=True)
+    with pytest.raises(ValueError, match="sigma"):
+        EX.peak_at_centre_study(frame, ref, -1.0, 1, np.random.default_rng(0))

@@ -4,6 +4,8 @@ Modules
 -------
 * :mod:`~projtrack.experiments.correlators.scoring`: printed values against our draws, and
   the plausibility of the paper's error counts.
+* :mod:`~projtrack.experiments.correlators.autocorrelation`: peaks, PSR and SNR of a letter's
+  correlations, clean and noisy (Figs. 3-5).
 * :mod:`~projtrack.experiments.correlators.recognition`: the 26-letter recognition test as
   Monte Carlo noise sweeps (noise level, extent and law).
 * :mod:`~projtrack.experiments.correlators.objects`: several objects located by projection
@@ -12,6 +14,8 @@ Modules
 
 from __future__ import annotations
 
+from .autocorrelation import (NOISY_QUANTITIES, in_frame, noisy_measures, noisy_study, peak_at_centre_study,
+                              peak_measures, psr_as_row)
 from .objects import (IDEAL_KEYS, energy_count, ideal_detector_study, ideal_ghosts, match_positions,
                       place_objects, random_positions, random_scene_study, switching_pair,
                       unique_from_projections)
@@ -20,6 +24,8 @@ from .scoring import counts_consistent, error_count_pmf, inside_widened, last_pe
 
 __all__ = [
     "inside_widened", "error_count_pmf", "counts_consistent", "last_perfect",
+    "in_frame", "peak_measures", "psr_as_row", "NOISY_QUANTITIES", "noisy_measures", "noisy_study",
+    "peak_at_centre_study",
     "noise_sweep", "noise_extent_study",
     "place_objects", "energy_count", "match_positions", "random_positions", "random_scene_study",
     "switching_pair", "ideal_ghosts", "unique_from_projections", "ideal_detector_study", "IDEAL_KEYS",
