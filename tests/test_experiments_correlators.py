@@ -209,3 +209,43 @@ def test_noisy_study_and_peak_at_centre():
         EX.noisy_study(frame, C_BIN, 0.1, 1, np.random.default_rng(0), extent=None, cyclic=True)
     with pytest.raises(ValueError, match="sigma"):
         EX.peak_at_centre_study(frame, ref, -1.0, 1, np.random.default_rng(0))
+
+
+# ---------------------------------------------------------------------------------- snr
+def test_snr_signals():
+    s16 = EX.snr_signals(16, np.random.default_rng(0))
+    assert set(s16) == {"uniform (paper's white)", "single pixel", "random +-1 texture"}
+    assert s16["single pixel"].sum() == 1 and set(np.unique(s16["random +-1 texture"])) <= {-1.0, 1.0}
+    assert "letter C" in EX.snr_signals(32, np.random.default_rng(0))
+
+
+def test_output_snr_study_limits():
+    n = 8
+    uni = EX.output_snr_study(np.ones((n, n)), 4, 100, np.random.default_rng(0))
+    assert uni["loss factor"] == pytest.approx(1.0)  # projection output = N x 2-D output, draw by draw
+    assert uni["loss, closed form"] == pytest.approx(1.0)
+    assert uni["SNR_o 2-D"] == pytest.approx(n, rel=0.15)  # N / sigma
+    one = np.zeros((n, n))
+    one[4, 4] = 1.0
+    single = EX.output_snr_study(one, 4, 100, np.random.default_rng(1))
+    assert single["loss, closed form"] == pytest.approx(np.sqrt(n))
+    assert single["loss factor"] == pytest.approx(np.sqrt(n), rel=0.15)
+    assert single["SNR_i ratio"] == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="square"):
+        EX.output_snr_study(np.ones((4, 5)), 2, 10, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="sigma"):
+        EX.output_snr_study(np.ones((4, 4)), 2, 10, np.random.default_rng(0), sigma=0.0)
+
+
+# ---------------------------------------------------------------------------- detectors
+def test_detector_rule_study(small_bank):
+    imgs, labels, _ = small_bank
+    bank = C.ProjectionCorrelationClassifier(angles=(90, 0)).fit(imgs, labels)
+    r = EX.detector_rule_study(bank, imgs, labels, [(0.0, 0), (0.0, 3)], 3, np.random.default_rng(0))
+    assert r.shape == (3, 2, 3)
+    assert np.all(r[:, 0] == 1.0)  # centred, noise-free: both rules right and agreeing
+    assert np.all(r[:, 1, 1] == 1.0)  # the sum of separate peaks is shift invariant (cyclic shifts)
+    with pytest.raises(ValueError, match="shift"):
+        EX.detector_rule_study(bank, imgs, labels, [(0.1, -1)], 1, np.random.default_rng(0))
+    with pytest.raises(TypeError, match="ProjectionCorrelationClassifier"):
+        EX.detector_rule_study(object(), imgs, labels, [(0.1, 0)], 1, np.random.default_rng(0))

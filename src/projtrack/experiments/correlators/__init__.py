@@ -8,6 +8,10 @@ Modules
   correlations, clean and noisy (Figs. 3-5).
 * :mod:`~projtrack.experiments.correlators.recognition`: the 26-letter recognition test as
   Monte Carlo noise sweeps (noise level, extent and law).
+* :mod:`~projtrack.experiments.correlators.snr`: output SNR of 2-D and projection correlations
+  under white noise (Sec. II.C).
+* :mod:`~projtrack.experiments.correlators.detectors`: the summed-output detector rule of the
+  multichannel correlator against the sum of peaks (Fig. 8).
 * :mod:`~projtrack.experiments.correlators.objects`: several objects located by projection
   correlations: scenes, matching to the truth, random-scene and ideal-detector studies.
 """
@@ -16,17 +20,21 @@ from __future__ import annotations
 
 from .autocorrelation import (NOISY_QUANTITIES, in_frame, noisy_measures, noisy_study, peak_at_centre_study,
                               peak_measures, psr_as_row)
+from .detectors import detector_rule_study
 from .objects import (IDEAL_KEYS, energy_count, ideal_detector_study, ideal_ghosts, match_positions,
                       place_objects, random_positions, random_scene_study, switching_pair,
                       unique_from_projections)
 from .recognition import noise_extent_study, noise_sweep
 from .scoring import counts_consistent, error_count_pmf, inside_widened, last_perfect
+from .snr import output_snr_study, snr_signals
 
 __all__ = [
     "inside_widened", "error_count_pmf", "counts_consistent", "last_perfect",
     "in_frame", "peak_measures", "psr_as_row", "NOISY_QUANTITIES", "noisy_measures", "noisy_study",
     "peak_at_centre_study",
     "noise_sweep", "noise_extent_study",
+    "snr_signals", "output_snr_study",
+    "detector_rule_study",
     "place_objects", "energy_count", "match_positions", "random_positions", "random_scene_study",
     "switching_pair", "ideal_ghosts", "unique_from_projections", "ideal_detector_study", "IDEAL_KEYS",
 ]
