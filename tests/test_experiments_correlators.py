@@ -249,3 +249,39 @@ def test_detector_rule_study(small_bank):
         EX.detector_rule_study(bank, imgs, labels, [(0.1, -1)], 1, np.random.default_rng(0))
     with pytest.raises(TypeError, match="ProjectionCorrelationClassifier"):
         EX.detector_rule_study(object(), imgs, labels, [(0.1, 0)], 1, np.random.default_rng(0))
+
+
+# ----------------------------------------------------------------------- discrimination
+def test_unit_image_and_correlation_peak():
+    u = EX.unit_image(C_BIN)
+    assert abs(u.mean()) < 1e-12 and np.isclose(np.sum(u * u), 1.0)
+    # the autocorrelation peak of a unit-energy image is 1 in 2-D, and its projection energy in 1-D
+    assert EX.correlation_peak(u, u, None) == pytest.approx(1.0)
+    assert EX.correlation_peak(u, u, 90) == pytest.approx(np.sum(C.project(u, 90) ** 2))
+
+
+def test_noisy_pair_study(small_bank):
+    imgs, _, _ = small_bank
+    filt = EX.unit_image(imgs[0])
+    d = EX.noisy_pair_study(imgs[0], imgs[1], filt, [90, None], 0.0, 2, np.random.default_rng(0))
+    assert d.shape == (2, 2, 2)
+    assert np.allclose(d[:, 1, 0], 1.0) and np.all(d[:, :, 0] > d[:, :, 1])  # noise-free: auto beats cross
+    noisy = EX.noisy_pair_study(imgs[0], imgs[1], filt, [90], 0.5, 3, np.random.default_rng(0))
+    assert np.array_equal(noisy, EX.noisy_pair_study(imgs[0], imgs[1], filt, [90], 0.5, 3, np.random.default_rng(0)))
+    assert noisy[:, 0, 0].std() > 0
+    with pytest.raises(ValueError, match="angles"):
+        EX.noisy_pair_study(imgs[0], imgs[1], filt, [], 0.1, 1, np.random.default_rng(0))
+
+
+def test_predictor_accuracy(small_bank):
+    imgs, labels, bank = small_bank
+    always_zero = lambda X: np.zeros(len(X), dtype=int)  # noqa: E731
+    ok = EX.predictor_accuracy({"bank": bank.predict, "zero": always_zero}, imgs, labels, [0.0, 0.2], 2,
+                               np.random.default_rng(0))
+    assert ok.shape == (2, 2, 2, 3)
+    assert ok[:, 0, 0].all()  # the bank on clean letters
+    assert np.array_equal(ok[:, :, 1], np.broadcast_to(labels == 0, (2, 2, 3)))  # right only on class 0
+    with pytest.raises(TypeError, match="callable"):
+        EX.predictor_accuracy({"x": 1}, imgs, labels, [0.1], 1, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="sigmas"):
+        EX.predictor_accuracy({"bank": bank.predict}, imgs, labels, [-0.1], 1, np.random.default_rng(0))

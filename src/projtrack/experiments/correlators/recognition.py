@@ -3,7 +3,9 @@
 * :func:`noise_sweep`: correctness of several filter banks on every letter over a grid of
   noise levels, plus the reference bank under the two readings of "uniform" noise;
 * :func:`noise_extent_study`: correctness of one bank when the noise covers only the
-  central part of the image, under several noise laws, and of its summed-output rule.
+  central part of the image, under several noise laws, and of its summed-output rule;
+* :func:`predictor_accuracy`: correctness of any classifiers (banks, baselines) over a
+  grid of Gaussian noise levels, all on the same noisy images.
 
 Each trial draws one noisy copy of every letter (:func:`projtrack.scenes.letters.noisy`)
 per noise level; trials run through :func:`projtrack.montecarlo.run`.
@@ -11,7 +13,7 @@ per noise level; trials run through :func:`projtrack.montecarlo.run`.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -19,7 +21,7 @@ from projtrack import montecarlo
 from projtrack._validation import as_array, as_choice, as_int, as_real, as_rng
 from projtrack.scenes import letters
 
-__all__ = ["noise_sweep", "noise_extent_study"]
+__all__ = ["noise_sweep", "noise_extent_study", "predictor_accuracy"]
 
 
 def _check_bank(bank: object, name: str) -> None:
@@ -144,3 +146,46 @@ def noise_extent_study(bank: object, images: np.ndarray, labels: Sequence[object
     res = montecarlo.run(_extent_trial, n_draws, as_rng(rng), bank, images, labels_arr, sig, extents, laws,
                          summed_sigmas)
     return np.array([r[0] for r in res]), np.array([r[1] for r in res])
+
+
+def _predictor_trial(rng, predictors, images, labels, sigmas):
+    out = np.zeros((len(sigmas), len(predictors), len(images)), dtype=bool)
+    for j, s in enumerate(sigmas):
+        X = letters.noisy(images, float(s), rng)[0]
+        out[j] = [predict(X) == labels for predict in predictors]
+    return out
+
+
+def predictor_accuracy(predictors: Mapping[str, Callable[[np.ndarray], np.ndarray]], images: np.ndarray,
+                       labels: Sequence[object], sigmas: Sequence[float], n_draws: int,
+                       rng: np.random.Generator) -> np.ndarray:
+    """Which images each predictor gets right, over a grid of Gaussian noise levels.
+
+    Every trial and noise level draws one noisy copy of every image (Gaussian noise over
+    the whole image, zero-mean after, :func:`projtrack.scenes.letters.noisy`) and gives
+    the same stack ``(n, H, W)`` to every predictor.
+
+    Parameters
+    ----------
+    predictors : mapping of name to callable
+        Each maps a stack of images to one predicted label per image (e.g. a bank's
+        ``predict``, or a baseline classifier with its own preprocessing).
+    images, labels, sigmas, n_draws, rng
+        As for :func:`noise_sweep`.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (n_draws, len(sigmas), len(predictors), n)
+    """
+    if not predictors:
+        raise ValueError("predictors must not be empty")
+    for k, f in predictors.items():
+        if not callable(f):
+            raise TypeError(f"predictors[{k!r}] must be callable, got {type(f).__name__}")
+    images, labels_arr = _check_images(images, labels)
+    sig = as_array(sigmas, "sigmas", ndim=1, allow_empty=False)
+    if np.any(sig < 0):
+        raise ValueError(f"sigmas must be >= 0, got {sig}")
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    res = montecarlo.run(_predictor_trial, n_draws, as_rng(rng), list(predictors.values()), images, labels_arr, sig)
+    return np.array(res)
