@@ -285,3 +285,25 @@ def test_predictor_accuracy(small_bank):
         EX.predictor_accuracy({"x": 1}, imgs, labels, [0.1], 1, np.random.default_rng(0))
     with pytest.raises(ValueError, match="sigmas"):
         EX.predictor_accuracy({"bank": bank.predict}, imgs, labels, [-0.1], 1, np.random.default_rng(0))
+
+
+# -------------------------------------------------------------------------------- plots
+def test_auto_cross_figure():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from projtrack.experiments.correlators import plots
+
+    u = EX.unit_image(C_BIN)
+    p = EX.unit_image(letters.render_letter("P"))
+    fig = plots.auto_cross_figure([(u, "C"), (p, "P")], [(u, "auto", "C0"), (p, "cross", "C3")], u,
+                                  cmap="gray", suptitle="t", normalize=True)
+    try:
+        assert len(fig.axes) == 5 and fig.axes[2].get_ylabel() == "corr. / auto peak"
+        assert max(fig.axes[2].lines[0].get_ydata()) == pytest.approx(1.0)  # auto peak = 1
+        with pytest.raises(ValueError, match="2 images"):
+            plots.auto_cross_figure([(u, "C")], [(u, "auto", "C0")], u, cmap="gray", suptitle="t")
+    finally:
+        plt.close("all")

@@ -16,6 +16,7 @@ Modules
   multichannel correlator against the sum of peaks (Fig. 8).
 * :mod:`~projtrack.experiments.correlators.objects`: several objects located by projection
   correlations: scenes, matching to the truth, random-scene and ideal-detector studies.
+* :mod:`~projtrack.experiments.correlators.plots`: plotting helpers (matplotlib).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from .discrimination import correlation_peak, noisy_pair_study, unit_image
 from .objects import (IDEAL_KEYS, energy_count, ideal_detector_study, ideal_ghosts, match_positions,
                       place_objects, random_positions, random_scene_study, switching_pair,
                       unique_from_projections)
+from .plots import DIAGONAL_PANELS, auto_cross_figure
 from .recognition import noise_extent_study, noise_sweep, predictor_accuracy
 from .scoring import counts_consistent, error_count_pmf, inside_widened, last_perfect
 from .snr import output_snr_study, snr_signals
@@ -41,4 +43,5 @@ __all__ = [
     "detector_rule_study",
     "place_objects", "energy_count", "match_positions", "random_positions", "random_scene_study",
     "switching_pair", "ideal_ghosts", "unique_from_projections", "ideal_detector_study", "IDEAL_KEYS",
+    "DIAGONAL_PANELS", "auto_cross_figure",
 ]
