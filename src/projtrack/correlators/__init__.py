@@ -25,14 +25,14 @@ Every name is importable from the package itself (``projtrack.correlators.projec
 
 Modules
 -------
-* :mod:`~projtrack.correlators.preprocess`: zero-mean and unit-energy images (Sec. III.B-C).
-* :mod:`~projtrack.correlators.projections`: projections at any angle, their binning and
+* ``projtrack.correlators.preprocess``: zero-mean and unit-energy images (Sec. III.B-C).
+* ``projtrack.correlators.projections``: projections at any angle, their binning and
   coordinates, and the central slice theorem (Eqs. (1)-(2)).
-* :mod:`~projtrack.correlators.correlation`: full, cyclic and projection correlations (Eq. (3)).
-* :mod:`~projtrack.correlators.measures`: PSR, SNR and peak statistics of a correlation plane (Eq. (5)).
-* :mod:`~projtrack.correlators.classifiers`: the 1-D projection and 2-D correlation filter banks.
-* :mod:`~projtrack.correlators.objects`: backprojection of projection correlations to locate objects.
-* :mod:`~projtrack.correlators.acousto_optic`: space- and time-integrating acousto-optic correlators.
+* ``projtrack.correlators.correlation``: full, cyclic and projection correlations (Eq. (3)).
+* ``projtrack.correlators.measures``: PSR, SNR and peak statistics of a correlation plane (Eq. (5)).
+* ``projtrack.correlators.classifiers``: the 1-D projection and 2-D correlation filter banks.
+* ``projtrack.correlators.objects``: backprojection of projection correlations to locate objects.
+* ``projtrack.correlators.acousto_optic``: space- and time-integrating acousto-optic correlators.
 
 Conventions
 -----------
@@ -42,8 +42,8 @@ measured from the **centre of the array**: ``x = j - (W - 1) / 2`` to the right 
 (Eq. (1)), theta in degrees counter-clockwise from the x axis: ``theta = 0`` integrates
 each column (the paper's *vertical* projection), ``theta = 90`` each row (the
 *horizontal* projection). The binning of the projections is described in
-:mod:`~projtrack.correlators.projections`, the correlation plane and the accuracy of
-Eq. (3) in :mod:`~projtrack.correlators.correlation`.
+``projtrack.correlators.projections``, the correlation plane and the accuracy of
+Eq. (3) in ``projtrack.correlators.correlation``.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Argument checks only the correlator modules need (images, signals, stacks, angles, planes).
 
-They are thin wrappers of :mod:`projtrack._validation` that fix the dimension each kind of
+They are thin wrappers of ``projtrack._validation`` that fix the dimension each kind of
 array has; the general checks (ints, windows, shapes, probabilities) come from there.
 """
 

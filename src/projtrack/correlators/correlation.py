@@ -3,7 +3,7 @@
 :func:`correlate2d` returns the full ``(Hf + Hg - 1, Wf + Wg - 1)`` plane
 ``c[p, q] = sum f[i, j] g[i - p + Hg - 1, j - q + Wg - 1]`` (the convention of
 :func:`scipy.signal.correlate`); its centre is the shift that aligns the centres of
-``f`` and ``g``, so with the coordinates of :mod:`projtrack.correlators.projections` the
+``f`` and ``g``, so with the coordinates of ``projtrack.correlators.projections`` the
 centre of the plane is ``r = 0``. :func:`projection_correlation` returns the full 1-D
 correlation of the two projections on the same bins as ``project(correlate2d(f, g), theta)``.
 

@@ -2,21 +2,21 @@
 
 Modules
 -------
-* :mod:`~projtrack.experiments.correlators.scoring`: printed values against our draws, and
+* ``projtrack.experiments.correlators.scoring``: printed values against our draws, and
   the plausibility of the paper's error counts.
-* :mod:`~projtrack.experiments.correlators.autocorrelation`: peaks, PSR and SNR of a letter's
+* ``projtrack.experiments.correlators.autocorrelation``: peaks, PSR and SNR of a letter's
   correlations, clean and noisy (Figs. 3-5).
-* :mod:`~projtrack.experiments.correlators.discrimination`: one filter against the true and a
+* ``projtrack.experiments.correlators.discrimination``: one filter against the true and a
   wrong letter, clean and noisy (Figs. 6-7).
-* :mod:`~projtrack.experiments.correlators.recognition`: the 26-letter recognition test as
+* ``projtrack.experiments.correlators.recognition``: the 26-letter recognition test as
   Monte Carlo noise sweeps (noise level, extent and law).
-* :mod:`~projtrack.experiments.correlators.snr`: output SNR of 2-D and projection correlations
+* ``projtrack.experiments.correlators.snr``: output SNR of 2-D and projection correlations
   under white noise (Sec. II.C).
-* :mod:`~projtrack.experiments.correlators.detectors`: the summed-output detector rule of the
+* ``projtrack.experiments.correlators.detectors``: the summed-output detector rule of the
   multichannel correlator against the sum of peaks (Fig. 8).
-* :mod:`~projtrack.experiments.correlators.objects`: several objects located by projection
+* ``projtrack.experiments.correlators.objects``: several objects located by projection
   correlations: scenes, matching to the truth, random-scene and ideal-detector studies.
-* :mod:`~projtrack.experiments.correlators.plots`: plotting helpers (matplotlib).
+* ``projtrack.experiments.correlators.plots``: plotting helpers (matplotlib).
 """
 
 from __future__ import annotations
