@@ -307,3 +307,24 @@ def test_auto_cross_figure():
             plots.auto_cross_figure([(u, "C")], [(u, "auto", "C0")], u, cmap="gray", suptitle="t")
     finally:
         plt.close("all")
+
+
+# ----------------------------------------------------------------------------- theorems
+def test_central_slice_errors_exact_on_lattice_angles():
+    rho = np.linspace(-0.5, 0.5, 21)
+    t = EX.central_slice_errors(C_BIN, (0, 45, 30), rho)
+    assert list(t["exact binning"]) == [True, True, False]
+    assert t["max |diff| / |F(0)|"].iloc[:2].max() < 1e-10
+    assert t["max |diff| / |F(0)|"].iloc[2] > 1e-6  # interpolated bins: not exact
+    with pytest.raises(ValueError, match="zero frequency"):
+        EX.central_slice_errors(C_BIN, (0,), np.array([0.1, 0.2]))
+
+
+def test_eq3_errors_and_random_pairs():
+    t = EX.eq3_errors(C_BIN, letters.render_letter("P"), (0, 90, 30))
+    assert t["max |diff| / max |integrated|"].iloc[:2].max() < 1e-10
+    assert 0 < t["max |diff| / max |integrated|"].iloc[2] < 0.15
+    w = EX.eq3_random_pairs(5, np.random.default_rng(0), max_side=12)
+    assert 0 <= w < 1e-10 and w == EX.eq3_random_pairs(5, np.random.default_rng(0), max_side=12)
+    with pytest.raises(ValueError, match="max_side"):
+        EX.eq3_random_pairs(2, np.random.default_rng(0), max_side=2)

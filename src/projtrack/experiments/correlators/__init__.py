@@ -2,6 +2,8 @@
 
 Modules
 -------
+* ``projtrack.experiments.correlators.theorems``: numerical checks of the central slice
+  theorem (Eq. (2)) and of Eq. (3).
 * ``projtrack.experiments.correlators.scoring``: printed values against our draws, and
   the plausibility of the paper's error counts.
 * ``projtrack.experiments.correlators.autocorrelation``: peaks, PSR and SNR of a letter's
@@ -32,8 +34,10 @@ from .plots import DIAGONAL_PANELS, auto_cross_figure
 from .recognition import noise_extent_study, noise_sweep, predictor_accuracy
 from .scoring import counts_consistent, error_count_pmf, inside_widened, last_perfect
 from .snr import output_snr_study, snr_signals
+from .theorems import central_slice_errors, eq3_errors, eq3_random_pairs
 
 __all__ = [
+    "central_slice_errors", "eq3_errors", "eq3_random_pairs",
     "inside_widened", "error_count_pmf", "counts_consistent", "last_perfect",
     "in_frame", "peak_measures", "psr_as_row", "NOISY_QUANTITIES", "noisy_measures", "noisy_study",
     "peak_at_centre_study",
