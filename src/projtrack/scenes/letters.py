@@ -40,6 +40,8 @@ from matplotlib.font_manager import FontProperties
 from matplotlib.path import Path as MplPath
 from matplotlib.textpath import TextPath
 
+from projtrack._validation import as_array, as_choice, as_int, as_probability, as_real, as_rng
+
 __all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "font_path", "render_letter", "alphabet", "noisy",
            "pixel_counts", "rule_grid", "choose_rule", "calibrate_rule"]
 
@@ -59,14 +61,6 @@ def font_path() -> Path:
     if not path.is_file():  # pragma: no cover - matplotlib always ships it
         raise FileNotFoundError(f"matplotlib's STIX font is missing: {path}")
     return path
-
-
-def _check_int(value: object, name: str, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
-    if value < low:
-        raise ValueError(f"{name} must be >= {low}, got {value}")
-    return int(value)
 
 
 @lru_cache(maxsize=None)
@@ -108,16 +102,10 @@ def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
     """
     if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
         raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
-    size = _check_int(size, "size", 4)
-    supersample = _check_int(supersample, "supersample", 1)
-    if isinstance(cap_height, bool) or not isinstance(cap_height, (int, float, np.number)):
-        raise TypeError(f"cap_height must be a number, got {type(cap_height).__name__}")
-    if not np.isfinite(cap_height) or not 0 < cap_height < size:
-        raise ValueError(f"cap_height must be in (0, size={size}), got {cap_height}")
-    if isinstance(min_coverage, bool) or not isinstance(min_coverage, (int, float, np.number)):
-        raise TypeError(f"min_coverage must be a number, got {type(min_coverage).__name__}")
-    if not np.isfinite(min_coverage) or not 0 < min_coverage <= 1:
-        raise ValueError(f"min_coverage must be in (0, 1], got {min_coverage}")
+    size = as_int(size, "size", minimum=4)
+    supersample = as_int(supersample, "supersample", minimum=1)
+    cap_height = as_real(cap_height, "cap_height", 0.0, size, low_open=True, high_open=True)
+    min_coverage = as_probability(min_coverage, "min_coverage", low_open=True)
     cap, polys = _glyph(letter)
     scale = float(cap_height) / float(cap[0])
     pts = np.concatenate(polys)
@@ -216,7 +204,7 @@ def calibrate_rule(grid: list[dict[str, float]] | None = None, *, letter: str = 
     """
     if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
         raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
-    pixels = _check_int(pixels, "pixels", 1)
+    pixels = as_int(pixels, "pixels", minimum=1)
     grid = rule_grid() if grid is None else grid
     if any(letter not in g for g in grid):
         raise ValueError(f"every rule of the grid needs the on-pixel count of {letter!r} (key {letter!r})")
@@ -266,28 +254,20 @@ def noisy(images: np.ndarray, sigma: float, rng: np.random.Generator, *, n_draws
     numpy.ndarray
         Shape ``(n_draws, n, H, W)`` for a stack, ``(n_draws, H, W)`` for one image.
     """
-    arr = np.asarray(images, dtype=float)
-    if arr.ndim not in (2, 3) or arr.size == 0:
-        raise ValueError(f"images must be a non-empty (H, W) or (n, H, W) array, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError("images must be finite (no NaN or inf)")
-    if isinstance(sigma, bool) or not isinstance(sigma, (int, float, np.number)):
-        raise TypeError(f"sigma must be a number, got {type(sigma).__name__}")
-    if not np.isfinite(sigma) or sigma < 0:
-        raise ValueError(f"sigma must be a finite number >= 0, got {sigma}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    n_draws = _check_int(n_draws, "n_draws", 1)
+    # converted first so that text input stays a ValueError, as np.asarray(..., float) raises
+    arr = as_array(np.asarray(images, dtype=float), "images", ndim=(2, 3), allow_empty=False)
+    sigma = as_real(sigma, "sigma", 0.0)
+    rng = as_rng(rng)
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    distribution = as_choice(distribution, "distribution", ("gaussian", "uniform"))
     shape = (n_draws,) + arr.shape
     if distribution == "gaussian":
         noise = rng.normal(0.0, float(sigma), size=shape)
-    elif distribution == "uniform":
+    else:
         half = float(sigma) * np.sqrt(3.0)
         noise = rng.uniform(-half, half, size=shape)
-    else:
-        raise ValueError(f"distribution must be 'gaussian' or 'uniform', got {distribution!r}")
     if extent is not None:
-        extent = _check_int(extent, "extent", 1)
+        extent = as_int(extent, "extent", minimum=1)
         H, W = arr.shape[-2:]
         if extent > min(H, W):
             raise ValueError(f"extent must be at most the image side {min(H, W)}, got {extent}")
