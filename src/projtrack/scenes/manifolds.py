@@ -26,6 +26,7 @@ __all__ = [
     "closed_curve",
     "curve_trajectory",
     "sphere_points",
+    "fibonacci_sphere",
     "sphere_velocity",
     "project_to_sphere",
     "sphere_trajectory",
@@ -70,6 +71,21 @@ def sphere_points(n: int, rng: np.random.Generator) -> np.ndarray:
     rng = as_rng(rng)
     n = as_count(n, "n")
     return project_to_sphere(rng.standard_normal((n, 3)))
+
+
+def fibonacci_sphere(n: int) -> np.ndarray:
+    """``n`` nearly evenly spread points on the unit sphere (golden-angle spiral), ``(n, 3)``.
+
+    Point ``i`` has height ``z = 1 - 2 (i + 1/2) / n`` and longitude ``pi (1 + sqrt 5) (i + 1/2)``:
+    a regular layout to compare with centroids learned from random points.
+    ``n`` must be an int >= 1 (ValueError otherwise).
+    """
+    n = as_count(n, "n")
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    phi = np.pi * (1 + 5 ** 0.5) * i
+    r = np.sqrt(1 - z ** 2)
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
 
 
 def project_to_sphere(x: np.ndarray) -> np.ndarray:

@@ -1,24 +1,45 @@
 """The experiments of the manifold chapter (Marques et al., 2002): the paper's three examples.
 
 * :mod:`~projtrack.experiments.dma.decoding`: Viterbi, smoothed and filtered paths of one sequence.
-* :mod:`~projtrack.experiments.dma.sphere`: Example 1, the sphere chain, its Monte Carlo and the Kalman baseline.
-* :mod:`~projtrack.experiments.dma.roads`: Example 2, roads and a range radar, its Monte Carlo and the EKF baseline.
-* :mod:`~projtrack.experiments.dma.slotcar`: Example 3, background subtraction and training on the slot-car video.
+* :mod:`~projtrack.experiments.dma.sphere`: Example 1, the sphere chain, its Monte Carlo and readings, the Kalman baseline.
+* :mod:`~projtrack.experiments.dma.roads`: Example 2, roads and a range radar, its Monte Carlo and readings, the EKF baseline.
+* :mod:`~projtrack.experiments.dma.slotcar`: Example 3, background subtraction, training, the tracking and sensitivity studies.
 
-Every Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`) runs through
+Every Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`, :func:`no_data_errors`,
+:func:`tracking_study`) runs through
 :func:`projtrack.montecarlo.run`.
 """
 
 from projtrack.experiments.dma.decoding import decode_all
-from projtrack.experiments.dma.roads import RoadExample, ekf_range, lost_drives, make_road_example, road_trials
-from projtrack.experiments.dma.slotcar import active_pixels, fit_slotcar, training_background
+from projtrack.experiments.dma.roads import (
+    RoadExample,
+    block_summary,
+    ekf_range,
+    error_summary,
+    lost_drives,
+    make_road_example,
+    no_data_errors,
+    road_trials,
+)
+from projtrack.experiments.dma.slotcar import (
+    active_pixels,
+    fit_slotcar,
+    sensitivity_study,
+    track_video,
+    tracking_error_rows,
+    tracking_study,
+    training_background,
+)
 from projtrack.experiments.dma.sphere import (
     H_SPHERE,
     SPHERE_CHAINS,
     SphereExample,
+    accuracy_summary,
     kalman_sphere,
     make_sphere_example,
+    noise_study,
     sphere_trials,
+    with_centroids,
 )
 
 __all__ = [
@@ -37,4 +58,14 @@ __all__ = [
     "active_pixels",
     "fit_slotcar",
     "training_background",
+    "with_centroids",
+    "accuracy_summary",
+    "noise_study",
+    "error_summary",
+    "block_summary",
+    "no_data_errors",
+    "track_video",
+    "tracking_study",
+    "tracking_error_rows",
+    "sensitivity_study",
 ]

@@ -14,13 +14,23 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from projtrack._validation import as_count, as_real
+from projtrack._validation import as_array, as_count, as_real
 from projtrack.dma import RangeCosineSensor, estimate_transitions, log_transitions, neighbor_graph
 from projtrack.experiments.dma.decoding import decode_all
 from projtrack.montecarlo import run
+from projtrack.stable import fmt
 from projtrack.scenes.roads import DirectedStates, RoadScene, make_road_scene
 
-__all__ = ["RoadExample", "make_road_example", "road_trials", "lost_drives", "ekf_range"]
+__all__ = [
+    "RoadExample",
+    "make_road_example",
+    "road_trials",
+    "lost_drives",
+    "error_summary",
+    "block_summary",
+    "no_data_errors",
+    "ekf_range",
+]
 
 
 @dataclass
@@ -139,6 +149,69 @@ def lost_drives(errors: np.ndarray, *, distance: float = 50.0, fraction: float =
     distance = as_real(distance, "distance", 0, low_open=True)
     fraction = as_real(fraction, "fraction", 0, 1, high_open=True)
     return (e > distance).mean(axis=1) > fraction
+
+
+def _errors(errors: object) -> np.ndarray:
+    e = as_array(errors, "errors", ndim=2, allow_empty=False)
+    if (e < 0).any():
+        raise ValueError("errors must be >= 0")
+    return e
+
+
+def error_summary(errors: object) -> dict[str, object]:
+    """Reading of Fig. 8's claim on ``(n_drives, n_steps)`` position errors (m).
+
+    Median and mean error, mean error of the drives not lost, the number and fraction of
+    lost drives (:func:`lost_drives`) and a 95% Clopper-Pearson interval of that fraction
+    (formatted ``"low-high"``). ``errors`` must be a non-empty finite 2-D array >= 0.
+    """
+    from scipy.stats import binomtest
+
+    e = _errors(errors)
+    lost = lost_drives(e)
+    n = len(e)
+    ci = binomtest(int(lost.sum()), n).proportion_ci(0.95)
+    return {"median error [m]": float(np.median(e)), "mean error [m]": float(e.mean()),
+            "mean error, drives not lost [m]": float(e[~lost].mean()) if (~lost).any() else np.nan,
+            "lost drives": int(lost.sum()), "lost fraction": float(lost.mean()),
+            "lost, 95% CI": f"{fmt(ci.low, '.2f')}-{fmt(ci.high, '.2f')}"}
+
+
+def block_summary(errors: object, block: int = 100) -> list[dict[str, object]]:
+    """Lost drives, median and mean error per block of ``block`` consecutive drives.
+
+    Shows how much the lost count of Fig. 8 varies between draws. The number of drives
+    must be a multiple of ``block`` (an int >= 1; ValueError otherwise).
+    """
+    e = _errors(errors)
+    block = as_count(block, "block")
+    if len(e) % block:
+        raise ValueError(f"the number of drives ({len(e)}) must be a multiple of block ({block})")
+    lost = lost_drives(e)
+    rows = []
+    for a in range(0, len(e), block):
+        blk = slice(a, a + block)
+        rows.append({"drives": f"{a + 1}-{a + block}", "lost drives": int(lost[blk].sum()),
+                     "median error [m]": float(np.median(e[blk])), "mean error [m]": float(e[blk].mean())})
+    return rows
+
+
+def _no_data_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, guess: np.ndarray) -> np.ndarray:
+    """One drive of :func:`no_data_errors` (the unit of :func:`projtrack.montecarlo.run`)."""
+    return np.linalg.norm(ex.scene.drive(n_steps, rng) - guess, axis=1)
+
+
+def no_data_errors(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator) -> np.ndarray:
+    """Errors (m) of the no-data estimate of Example 2: always the state nearest the receiver.
+
+    The drives are those of :func:`road_trials` with the same ``rng`` (trial ``i`` draws
+    its drive first from the ``i``-th child of ``rng``). Returns ``(n_trials, n_steps)``.
+    ``n_trials`` must be an int >= 1 and ``n_steps`` >= 2 (ValueError otherwise).
+    """
+    n_trials = as_count(n_trials, "n_trials")
+    n_steps = as_count(n_steps, "n_steps", minimum=2)
+    guess = ex.points[np.argmin(np.linalg.norm(ex.points - ex.receiver, axis=1))]
+    return np.array(run(_no_data_trial, n_trials, rng, ex, n_steps, guess))
 
 
 def ekf_range(

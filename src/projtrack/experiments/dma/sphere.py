@@ -14,7 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse as sp
 
-from projtrack._validation import as_count, as_real
+from projtrack._validation import as_array, as_choice, as_count, as_real
 from projtrack.dma import (
     DiscreteManifold,
     LinearGaussianSensor,
@@ -27,7 +27,17 @@ from projtrack.experiments.dma.decoding import decode_all
 from projtrack.montecarlo import run
 from projtrack.scenes import manifolds as mf
 
-__all__ = ["H_SPHERE", "SPHERE_CHAINS", "SphereExample", "make_sphere_example", "sphere_trials", "kalman_sphere"]
+__all__ = [
+    "H_SPHERE",
+    "SPHERE_CHAINS",
+    "SphereExample",
+    "make_sphere_example",
+    "with_centroids",
+    "sphere_trials",
+    "accuracy_summary",
+    "noise_study",
+    "kalman_sphere",
+]
 
 #: Observation row of Example 1.
 H_SPHERE = np.array([[1.0, -1.0, 1.0]])
@@ -114,6 +124,22 @@ def make_sphere_example(
     return SphereExample(man, C, A, np.full(S, 1.0 / S), float(noise_std), float(dt))
 
 
+def with_centroids(ex: SphereExample, centroids: object, chain: str) -> SphereExample:
+    """``ex`` with other centroids on the sphere and the chain ``chain`` built on them.
+
+    The velocity field, ``dt``, the start distribution's size rule (uniform) and the noise
+    are those of ``ex``; the transitions are rebuilt as in :func:`make_sphere_example`
+    (``chain`` one of :data:`SPHERE_CHAINS`). ``centroids`` must be a finite ``(S, 3)``
+    array with ``S`` equal to ``ex.n_states`` (the start vector is kept; ValueError otherwise).
+    """
+    chain = as_choice(chain, "chain", tuple(SPHERE_CHAINS))
+    C = as_array(centroids, "centroids", ndim=2, shape=(ex.n_states, 3))
+    n_next, exclude_self = SPHERE_CHAINS[chain]
+    A = transitions_from_velocity_field(C, mf.sphere_velocity, ex.dt, n_next=n_next, project=mf.project_to_sphere,
+                                        exclude_self=exclude_self)
+    return replace(ex, centroids=C, transitions=A)
+
+
 def _sphere_trial(rng: np.random.Generator, ex: SphereExample, n_steps: int, methods: tuple[str, ...],
                   with_kalman: bool) -> dict[str, np.ndarray]:
     """One trial of :func:`sphere_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
@@ -172,6 +198,58 @@ def sphere_trials(
         raise ValueError(f"methods must be a non-empty subset of ('viterbi', 'smooth', 'filter'), got {methods!r}")
     trials = run(_sphere_trial, int(n_trials), rng, ex, int(n_steps), methods, bool(with_kalman))
     return {k: np.array([t[k] for t in trials]) for k in trials[0]}
+
+
+def accuracy_summary(right: object) -> dict[str, float]:
+    """Reading of a ``(n_trials, n_steps)`` boolean "right centroid" array (Fig. 6's claim).
+
+    Returns the fraction of right centroids at ``t = 1-2``, at ``t >= 3`` and at the last
+    two instants (key ``"right, t = {n-1}-{n}"``), and the fraction of trials right at every
+    instant after ``t = 2`` (``"perfect after t = 2"``) and at every instant (``"perfect"``).
+    ``right`` must be a 2-D array with at least three instants (ValueError otherwise).
+    """
+    ok = as_array(right, "right", ndim=2, allow_empty=False, dtype=bool)
+    n = ok.shape[1]
+    if n < 3:
+        raise ValueError(f"right must have at least 3 instants (columns), got shape {ok.shape}")
+    return {
+        "right, t = 1-2": float(ok[:, :2].mean()),
+        "right, t >= 3": float(ok[:, 2:].mean()),
+        f"right, t = {n - 1}-{n}": float(ok[:, -2:].mean()),
+        "perfect after t = 2": float(ok[:, 2:].all(axis=1).mean()),
+        "perfect": float(ok.all(axis=1).mean()),
+    }
+
+
+def noise_study(
+    models: dict[str, SphereExample],
+    noise_stds: tuple[float, ...],
+    n_trials: int,
+    n_steps: int,
+    seed: int,
+) -> tuple[list[dict[str, object]], dict[tuple[str, float], dict[str, np.ndarray]]]:
+    """Viterbi accuracy of Example 1 for every chain of ``models`` and noise level.
+
+    For each ``(chain, sigma)`` runs :func:`sphere_trials` (Viterbi only) on
+    ``models[chain].with_noise(sigma)`` with ``n_trials`` draws of ``n_steps`` from a fresh
+    ``numpy.random.default_rng(seed)`` (the same draws of the chain for every noise level).
+    Returns the table rows (``chain``, ``sigma`` and :func:`accuracy_summary`) and the raw
+    runs keyed by ``(chain, sigma)``. ``models`` and ``noise_stds`` must not be empty.
+    """
+    if not isinstance(models, dict) or not models:
+        raise ValueError("models must be a non-empty dict chain -> SphereExample")
+    sigmas = tuple(as_real(s, "noise_stds[i]", 0, low_open=True) for s in noise_stds)
+    if not sigmas:
+        raise ValueError("noise_stds must not be empty")
+    rows: list[dict[str, object]] = []
+    runs: dict[tuple[str, float], dict[str, np.ndarray]] = {}
+    for chain, model in models.items():
+        for sigma, given in zip(sigmas, noise_stds):
+            res = sphere_trials(model.with_noise(sigma), n_trials, n_steps, np.random.default_rng(seed),
+                                methods=("viterbi",))
+            runs[chain, given] = res
+            rows.append({"chain": chain, "sigma": given, **accuracy_summary(res["viterbi"])})
+    return rows, runs
 
 
 def kalman_sphere(y: np.ndarray, noise_std: float, *, q: float = 0.3, smooth: bool = True) -> np.ndarray:
