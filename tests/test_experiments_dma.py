@@ -147,3 +147,45 @@ def test_sensitivity_study_grid(slotcar):
     assert rows[0]["viterbi error, hidden [px]"] >= 0  # the video has hidden frames
     with pytest.raises(ValueError, match="empty"):
         ex.sensitivity_study(train, video, bg, (), (3,), seed=3)
+
+
+# ---------------------------------------------------------------- Figs. 2-3: the curve
+@pytest.fixture(scope="module")
+def curve_model():
+    t = np.random.default_rng(4).uniform(0, 2 * np.pi, 600)
+    return dma.learn_manifold(mf.closed_curve(t), 3, 4, np.random.default_rng(5), dim=1)
+
+
+def test_clockwise_order_is_a_clockwise_permutation(curve_model):
+    order, inv = ex.clockwise_order(curve_model)
+    S = curve_model.n_prototypes
+    assert sorted(order.tolist()) == list(range(S)) and np.array_equal(inv[order], np.arange(S))
+    angle = np.unwrap(np.arctan2(*curve_model.prototypes[order][:, ::-1].T))
+    assert (np.diff(angle) < 0).all()  # clockwise all the way round
+    reg = curve_model.prototype_region[order]
+    assert reg[0] != reg[-1]  # rank 0 starts a region
+    with pytest.raises(ValueError, match="plane"):
+        ex.clockwise_order(dma.learn_manifold(mf.sphere_points(200, np.random.default_rng(0)), 2, 2,
+                                              np.random.default_rng(1), dim=2))
+
+
+def test_other_moves_counts_skips_and_backward_moves():
+    A = np.eye(4) * 0.5 + np.roll(np.eye(4), 1, axis=1) * 0.5  # stay or advance: none
+    assert ex.other_moves(A) == 0
+    A[2] = [0.2, 0.0, 0.4, 0.4]  # state 2 may jump back to 0
+    assert ex.other_moves(A) == 1 and ex.other_moves(A, 0.3) == 0
+    with pytest.raises(ValueError, match="square"):
+        ex.other_moves(np.ones((2, 3)))
+
+
+def test_speed_sensitivity_faster_motion_gives_more_skips(curve_model):
+    _, inv = ex.clockwise_order(curve_model)
+    rows = ex.speed_sensitivity(curve_model, inv, (0.02, 0.6), n_runs=3, n_steps=120)
+    assert [r["mean step [rad]"] for r in rows] == [0.02, 0.6]
+    slow, fast = rows
+    assert slow["largest step"] < fast["largest step"]
+    assert slow["rows with other moves"] <= fast["rows with other moves"] and fast["rows with other moves"] > 0
+    with pytest.raises(ValueError, match="inv"):
+        ex.speed_sensitivity(curve_model, inv[:-1], (0.1,))
+    with pytest.raises(ValueError, match="mean_steps"):
+        ex.speed_sensitivity(curve_model, inv, ())

@@ -1,5 +1,6 @@
 """The experiments of the manifold chapter (Marques et al., 2002): the paper's three examples.
 
+* :mod:`~projtrack.experiments.dma.curve`: Figs. 2-3, the clockwise chain learned on a closed curve and its speed sensitivity.
 * :mod:`~projtrack.experiments.dma.decoding`: Viterbi, smoothed and filtered paths of one sequence.
 * :mod:`~projtrack.experiments.dma.sphere`: Example 1, the sphere chain, its Monte Carlo and readings, the Kalman baseline.
 * :mod:`~projtrack.experiments.dma.roads`: Example 2, roads and a range radar, its Monte Carlo and readings, the EKF baseline.
@@ -10,6 +11,7 @@ Every Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`, :func:`no_d
 :func:`projtrack.montecarlo.run`.
 """
 
+from projtrack.experiments.dma.curve import clockwise_order, other_moves, speed_sensitivity
 from projtrack.experiments.dma.decoding import decode_all
 from projtrack.experiments.dma.roads import (
     RoadExample,
@@ -68,4 +70,7 @@ __all__ = [
     "tracking_study",
     "tracking_error_rows",
     "sensitivity_study",
+    "clockwise_order",
+    "other_moves",
+    "speed_sensitivity",
 ]
