@@ -1,4 +1,4 @@
-"""Tests of projtrack.dma.examples: the set-ups of the three examples and the baselines."""
+"""Tests of projtrack.experiments.dma: the set-ups of the three examples and the baselines."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from projtrack import dma
-from projtrack.dma import examples as ex
+from projtrack.experiments import dma as ex
 from projtrack.scenes.slotcar import make_slotcar_video
 
 

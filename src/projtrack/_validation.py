@@ -15,7 +15,7 @@ module; the ones here are those that at least two modules would otherwise write 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from numbers import Integral, Real
 from typing import Any
 
@@ -227,6 +227,30 @@ def as_square(x: object, name: str, n: int | None = None, *, finite: bool = True
 
 
 # --- dma
+
+def as_count(value: object, name: str, minimum: int = 1) -> int:
+    """A count: an int >= ``minimum``, with ValueError for *any* bad value.
+
+    For sizes (numbers of steps, trials, frames, points) whose documented error is a
+    ValueError whatever is wrong, a float or a bool included; elsewhere use :func:`as_int`,
+    which reports a wrong kind as TypeError.
+    """
+    if not _is_int(value) or int(value) < minimum:  # type: ignore[call-overload]
+        raise ValueError(f"{name} must be an int >= {minimum}, got {value!r}")
+    return int(value)  # type: ignore[call-overload]
+
+
+def only_value_errors(check: Callable[..., Any], value: object, name: str, *args: Any, **kwargs: Any) -> Any:
+    """``check(value, name, *args, **kwargs)`` with a wrong kind reported as ValueError too.
+
+    For arguments whose documented error is a ValueError whatever is wrong (a string for a
+    number included), e.g. ``only_value_errors(as_real, speed, "speed", 0, low_open=True)``.
+    The message is the check's own.
+    """
+    try:
+        return check(value, name, *args, **kwargs)
+    except TypeError as exc:
+        raise ValueError(str(exc)) from None
 
 
 # --- correlators

@@ -19,11 +19,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from projtrack._validation import as_count, as_rng
+
 __all__ = [
     "parabolic_surface",
     "closed_curve",
     "curve_trajectory",
     "sphere_points",
+    "fibonacci_sphere",
     "sphere_velocity",
     "project_to_sphere",
     "sphere_trajectory",
@@ -31,24 +34,12 @@ __all__ = [
 ]
 
 
-def _rng(rng: object) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    return rng
-
-
-def _count(n: object, name: str) -> int:
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"{name} must be a positive int, got {n!r}")
-    return int(n)
-
-
 def parabolic_surface(n: int, rng: np.random.Generator, *, a: float = 1.0, noise: float = 0.0) -> np.ndarray:
     """``n`` points uniform in ``[-1, 1]^2`` lifted to ``z = a (x^2 + y^2)`` (+ N(0, noise^2) in z).
 
     Returns an ``(n, 3)`` array (Fig. 4a of Marques et al.)."""
-    rng = _rng(rng)
-    n = _count(n, "n")
+    rng = as_rng(rng)
+    n = as_count(n, "n")
     xy = rng.uniform(-1.0, 1.0, size=(n, 2))
     z = a * (xy**2).sum(axis=1) + noise * rng.standard_normal(n)
     return np.column_stack([xy, z])
@@ -68,8 +59,8 @@ def curve_trajectory(n_steps: int, rng: np.random.Generator, *, mean_step: float
     The parameter decreases by ``mean_step * U(1 - jitter, 1 + jitter)`` radians per step
     from a uniform random start; points get isotropic N(0, noise^2) noise.
     Returns ``(n_steps, 2)``."""
-    rng = _rng(rng)
-    n = _count(n_steps, "n_steps")
+    rng = as_rng(rng)
+    n = as_count(n_steps, "n_steps")
     steps = mean_step * rng.uniform(1 - jitter, 1 + jitter, size=n)
     t = rng.uniform(0, 2 * np.pi) - np.concatenate([[0.0], np.cumsum(steps[1:])])
     return closed_curve(t) + noise * rng.standard_normal((n, 2))
@@ -77,9 +68,24 @@ def curve_trajectory(n_steps: int, rng: np.random.Generator, *, mean_step: float
 
 def sphere_points(n: int, rng: np.random.Generator) -> np.ndarray:
     """``n`` points uniform on the unit sphere, ``(n, 3)``."""
-    rng = _rng(rng)
-    n = _count(n, "n")
+    rng = as_rng(rng)
+    n = as_count(n, "n")
     return project_to_sphere(rng.standard_normal((n, 3)))
+
+
+def fibonacci_sphere(n: int) -> np.ndarray:
+    """``n`` nearly evenly spread points on the unit sphere (golden-angle spiral), ``(n, 3)``.
+
+    Point ``i`` has height ``z = 1 - 2 (i + 1/2) / n`` and longitude ``pi (1 + sqrt 5) (i + 1/2)``:
+    a regular layout to compare with centroids learned from random points.
+    ``n`` must be an int >= 1 (ValueError otherwise).
+    """
+    n = as_count(n, "n")
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    phi = np.pi * (1 + 5 ** 0.5) * i
+    r = np.sqrt(1 - z ** 2)
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
 
 
 def project_to_sphere(x: np.ndarray) -> np.ndarray:
@@ -109,8 +115,8 @@ def sphere_trajectory(n_steps: int, dt: float, rng: np.random.Generator, *, nois
     """A continuous trajectory following :func:`sphere_velocity` (Euler steps of ``dt``
     with isotropic tangent-ish N(0, noise^2 dt) perturbations, re-projected on the sphere).
     Starts at ``start`` or a uniform random point. Returns ``(n_steps, 3)``."""
-    rng = _rng(rng)
-    n = _count(n_steps, "n_steps")
+    rng = as_rng(rng)
+    n = as_count(n_steps, "n_steps")
     x = sphere_points(1, rng)[0] if start is None else project_to_sphere(np.asarray(start, dtype=float))
     out = np.empty((n, 3))
     for t in range(n):
@@ -129,8 +135,8 @@ def sample_markov_chain(start: np.ndarray, transitions: object, n_steps: int, rn
     transitions : array_like or scipy.sparse matrix, shape (S, S)
         Row-stochastic transition probabilities.
     """
-    rng = _rng(rng)
-    n = _count(n_steps, "n_steps")
+    rng = as_rng(rng)
+    n = as_count(n_steps, "n_steps")
     p0 = np.asarray(start, dtype=float)
     P = sp.csr_array(transitions, dtype=float)
     S = p0.shape[0]

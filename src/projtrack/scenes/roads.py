@@ -27,16 +27,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from projtrack._validation import as_count, as_real, as_rng, only_value_errors
+
 __all__ = ["RoadScene", "DirectedStates", "make_road_scene"]
-
-
-def _positive(value: object, name: str) -> float:
-    """``value`` as a float, or ValueError naming ``name`` unless finite and > 0."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return float(value)
 
 
 @dataclass
@@ -136,7 +129,7 @@ class RoadScene:
 
     def directed_states(self, heading_scale: float = 30.0) -> DirectedStates:
         """Position-heading states along every road (see :class:`DirectedStates`)."""
-        heading_scale = _positive(heading_scale, "heading_scale")
+        heading_scale = only_value_errors(as_real, heading_scale, "heading_scale", 0, low_open=True)
         pos, head = [], []
         for _, _, poly in self.roads:
             s = _arclength(poly)
@@ -163,20 +156,17 @@ class RoadScene:
 
     def elevation_grid(self, n: int = 101) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(X, Y, Z)`` on an ``n x n`` grid, for contour plots (``n`` an int >= 2)."""
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-            raise ValueError(f"n must be an int >= 2, got {n!r}")
+        n = as_count(n, "n", minimum=2)
         g = np.linspace(0, self.extent, n)
         X, Y = np.meshgrid(g, g)
         return X, Y, self.elevation(np.stack([X, Y], axis=-1))
 
     def drive(self, n_steps: int, rng: np.random.Generator, *, speed: float = 12.0, dt: float = 1.0) -> np.ndarray:
         """A car trajectory of ``n_steps`` positions ``(x, y, z)`` sampled every ``dt`` s."""
-        if not isinstance(rng, np.random.Generator):
-            raise TypeError("rng must be a numpy.random.Generator")
-        if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
-            raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
-        speed = _positive(speed, "speed")
-        dt = _positive(dt, "dt")
+        rng = as_rng(rng)
+        n_steps = as_count(n_steps, "n_steps")
+        speed = only_value_errors(as_real, speed, "speed", 0, low_open=True)
+        dt = only_value_errors(as_real, dt, "dt", 0, low_open=True)
         incident: dict[int, list[tuple[int, bool]]] = {}
         for r, (a, b, _) in enumerate(self.roads):
             incident.setdefault(a, []).append((r, True))
@@ -236,14 +226,11 @@ def make_road_scene(
         If ``grid`` is not an int >= 2, ``n_hills`` not an int >= 0, or ``extent`` or
         ``spacing`` not a finite number > 0 (each message names the argument).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
-    if isinstance(grid, bool) or not isinstance(grid, (int, np.integer)) or grid < 2:
-        raise ValueError(f"grid must be an int >= 2, got {grid!r}")
-    extent = _positive(extent, "extent")
-    spacing = _positive(spacing, "spacing")
-    if isinstance(n_hills, bool) or not isinstance(n_hills, (int, np.integer)) or n_hills < 0:
-        raise ValueError(f"n_hills must be an int >= 0, got {n_hills!r}")
+    rng = as_rng(rng)
+    grid = as_count(grid, "grid", minimum=2)
+    extent = only_value_errors(as_real, extent, "extent", 0, low_open=True)
+    spacing = only_value_errors(as_real, spacing, "spacing", 0, low_open=True)
+    n_hills = as_count(n_hills, "n_hills", minimum=0)
     hills = np.column_stack([
         rng.uniform(0, extent, n_hills), rng.uniform(0, extent, n_hills),
         rng.uniform(20, 80, n_hills), rng.uniform(150, 400, n_hills),

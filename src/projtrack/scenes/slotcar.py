@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from projtrack._validation import as_count, as_probability, as_real, as_rng, as_shape2, only_value_errors
+
 __all__ = ["SlotCarVideo", "make_slotcar_video", "track_points"]
 
 
@@ -131,30 +133,17 @@ def make_slotcar_video(
         ``illumination`` is not in [0, 1) or ``car_peak`` not in (0, 1] (each message
         names the argument).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError("rng must be a numpy.random.Generator")
-    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
-        raise ValueError(f"n_frames must be a positive int, got {n_frames!r}")
-    try:
-        H, W = shape
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"shape must be a pair of ints (H, W), got {shape!r}") from exc
-    if any(isinstance(v, bool) or not isinstance(v, (int, np.integer)) for v in (H, W)):
-        raise ValueError(f"shape must be a pair of ints (H, W), got {shape!r}")
+    rng = as_rng(rng)
+    n_frames = as_count(n_frames, "n_frames")
+    H, W = as_shape2(shape)
     if H < 16 or W < 16:
         raise ValueError(f"shape must be at least 16 x 16, got {shape}")
     for name, value in (("speed", speed), ("fps", fps), ("bridge_width", bridge_width)):
-        if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    if not (isinstance(noise, (int, float, np.integer, np.floating)) and np.isfinite(noise) and noise >= 0):
-        raise ValueError(f"noise must be a finite number >= 0, got {noise!r}")
-    for name, value, lo, hi, lo_open, hi_open in (("illumination", illumination, 0.0, 1.0, False, True),
-                                                  ("car_peak", car_peak, 0.0, 1.0, True, False),
-                                                  ("clutter", clutter, 0.0, np.inf, False, True)):
-        ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) and not np.isnan(value)
-        ok = ok and (value > lo if lo_open else value >= lo) and (value < hi if hi_open else value <= hi)
-        if not ok:
-            raise ValueError(f"{name} must be a number in {'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}, got {value!r}")
+        only_value_errors(as_real, value, name, 0, low_open=True)
+    only_value_errors(as_real, noise, "noise", 0)
+    only_value_errors(as_probability, illumination, "illumination", high_open=True)
+    only_value_errors(as_probability, car_peak, "car_peak", low_open=True)
+    only_value_errors(as_real, clutter, "clutter", 0)
     srng = np.random.default_rng(scene_seed)
     tex = srng.normal(0, 0.09, (H + 2, W + 2))
     tex = sum(tex[i:i + H, j:j + W] for i in range(3) for j in range(3)) / 9.0
