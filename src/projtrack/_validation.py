@@ -266,16 +266,3 @@ def only_value_errors(check: Callable[..., Any], value: object, name: str, *args
 
 
 # --- novelty
-
-
-def as_value_error(check: Any, *args: Any, **kwargs: Any) -> Any:
-    """Run ``check(*args, **kwargs)`` and report a wrong kind as :class:`ValueError` too.
-
-    For functions whose documented contract has always been a ``ValueError`` for any bad
-    argument (a string, a bool, a float where an int is expected): they use the shared checks
-    without changing the error type their callers catch. The message is the check's.
-    """
-    try:
-        return check(*args, **kwargs)
-    except TypeError as exc:
-        raise ValueError(str(exc)) from None

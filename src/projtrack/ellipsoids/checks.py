@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real
+from projtrack._validation import as_array, as_int, as_real, only_value_errors
 
 __all__ = ["check_symmetric", "check_orthonormal"]
 
@@ -70,18 +70,12 @@ def check_orthonormal(C: object, name: str = "C", n: int | None = None, tol: flo
 
 def _as_size(value: object, name: str, minimum: int) -> int:
     """A size or count (an int >= ``minimum``); a value of the wrong type is a ValueError too, as documented."""
-    try:
-        return as_int(value, name, minimum=minimum)
-    except TypeError as exc:
-        raise ValueError(str(exc)) from None
+    return only_value_errors(as_int, value, name, minimum=minimum)
 
 
 def _as_positive(value: object, name: str) -> float:
     """A finite number > 0; a value of the wrong type is a ValueError too, as documented."""
-    try:
-        return as_real(value, name, 0.0, low_open=True)
-    except TypeError as exc:
-        raise ValueError(str(exc)) from None
+    return only_value_errors(as_real, value, name, 0.0, low_open=True)
 
 
 def _dim(n: int) -> int:

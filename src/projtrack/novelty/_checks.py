@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from projtrack._validation import (as_array, as_choice, as_int, as_probability, as_real,
-                                   as_value_error)
+                                   only_value_errors)
 
 from .updates import METHODS
 
@@ -28,17 +28,17 @@ def as_method(method: Any) -> str:
 
 def as_positive_count(value: Any, name: str) -> int:
     """An int >= 1 (a bool or a float is refused with a ValueError)."""
-    return as_value_error(as_int, value, name, minimum=1)
+    return only_value_errors(as_int, value, name, minimum=1)
 
 
 def as_tolerance(value: Any, name: str) -> float:
     """A relative tolerance in ``[0, 1)`` (anything else is a ValueError)."""
-    return as_value_error(as_real, value, name, 0.0, 1.0, high_open=True)
+    return only_value_errors(as_real, value, name, 0.0, 1.0, high_open=True)
 
 
 def as_grey_threshold(value: Any, name: str) -> float:
     """A finite threshold >= 0 in grey levels (anything else is a ValueError)."""
-    return as_value_error(as_real, value, name, 0.0)
+    return only_value_errors(as_real, value, name, 0.0)
 
 
 def as_frame(frame: Any, name: str = "frame") -> np.ndarray:

@@ -26,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 import numpy as np
 
-from projtrack._validation import as_int, as_real, as_value_error
+from projtrack._validation import as_int, as_real, only_value_errors
 
 __all__ = ["AIRCRAFT", "Aircraft", "aircraft_model", "render", "render_rolls"]
 
@@ -240,10 +240,10 @@ def render(aircraft: Aircraft | str, roll_deg: float, size: int = 64, supersampl
         aircraft = aircraft_model(aircraft)
     if not isinstance(aircraft, Aircraft):
         raise TypeError(f"aircraft must be an Aircraft or a name in {AIRCRAFT}")
-    roll_deg = as_value_error(as_real, roll_deg, "roll_deg")
-    size = as_value_error(as_int, size, "size", minimum=8)
-    supersample = as_value_error(as_int, supersample, "supersample", minimum=1)
-    extent = as_value_error(as_real, extent, "extent", 0.0, low_open=True)
+    roll_deg = only_value_errors(as_real, roll_deg, "roll_deg")
+    size = only_value_errors(as_int, size, "size", minimum=8)
+    supersample = only_value_errors(as_int, supersample, "supersample", minimum=1)
+    extent = only_value_errors(as_real, extent, "extent", 0.0, low_open=True)
     a = np.deg2rad(float(roll_deg))
     rot = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
     t = aircraft.triangles @ rot.T

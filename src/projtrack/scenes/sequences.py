@@ -17,7 +17,7 @@ from importlib import resources
 import numpy as np
 from scipy import ndimage
 
-from projtrack._validation import as_int, as_real, as_rng, as_shape2, as_value_error
+from projtrack._validation import as_int, as_real, as_rng, as_shape2, only_value_errors
 
 __all__ = ["WalkingSequence", "PlazaExcerpt", "load_plaza_excerpt", "textured_background",
            "walking_sequence"]
@@ -95,7 +95,7 @@ def _check_shape(shape) -> tuple[int, int]:
 
 def _as_level(value, name: str) -> float:
     """A finite number >= 0 (a length, a speed, a grey level); any bad value is a ValueError."""
-    return as_value_error(as_real, value, name, 0.0)
+    return only_value_errors(as_real, value, name, 0.0)
 
 
 def textured_background(shape: tuple[int, int], rng: np.random.Generator,
@@ -161,10 +161,10 @@ def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
     """
     rng = as_rng(rng)
     h, w = _check_shape(shape)
-    n_frames = as_value_error(as_int, n_frames, "n_frames", minimum=1)
-    n_background_figures = as_value_error(as_int, n_background_figures, "n_background_figures",
+    n_frames = only_value_errors(as_int, n_frames, "n_frames", minimum=1)
+    n_background_figures = only_value_errors(as_int, n_background_figures, "n_background_figures",
                                           minimum=0)
-    entry_frame = as_value_error(as_int, entry_frame, "entry_frame", minimum=0)
+    entry_frame = only_value_errors(as_int, entry_frame, "entry_frame", minimum=0)
     for name, v in (("background_height", background_height),
                     ("foreground_height", foreground_height),
                     ("background_speed", background_speed),
