@@ -1,6 +1,13 @@
-"""The accuracy experiment of Sec. VI: errors of the track estimates against Eqs. (8)-(13)."""
+"""The accuracy experiment of Sec. VI: errors of the track estimates against Eqs. (8)-(13).
+
+:func:`accuracy_experiment` runs one speed and frame time, :func:`accuracy_sweep` the
+grid of Figs. 7-10 under several stopping rules, :func:`within_counts` counts the
+settings whose experimental standard deviations stay within the predicted ones.
+"""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -8,7 +15,7 @@ from projtrack._validation import as_real
 from projtrack.hough import TrackInitiator, detect_peaks, estimate_track, hough_transform, track_covariance
 from projtrack.scenes.boost import frame_times, render_frames, straight_targets
 
-__all__ = ["accuracy_experiment"]
+__all__ = ["accuracy_experiment", "STOPS", "ROUND_VAR", "accuracy_sweep", "within_counts"]
 
 
 def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
@@ -81,4 +88,82 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
     if return_errors:
         out["errors"] = E
         out["n_seen"] = np.array(seen_counts)
+    return out
+
+
+#: The stopping rules of the book's sweep: ``(stop_fraction, name, dx_schedule)``.
+STOPS = ((None, "75 % rule", "double"), (1.0, "all points", "double"), (None, "75 % rule, dx' + 1", "step"))
+
+#: Variance of rounding a position to the nearest pixel (uniform over one pixel).
+ROUND_VAR = 1.0 / 12.0
+
+
+def accuracy_sweep(speeds: Sequence[float], frame_times: Sequence[float],
+                   stops: Sequence[tuple[float | None, str, str]] = STOPS, *, seed: int = 1988,
+                   jitter_sigma: float = 0.5, n_targets: int = 50,
+                   total_time: float = 5.0) -> tuple[list[dict[str, object]], dict[tuple, tuple]]:
+    """:func:`accuracy_experiment` at every stopping rule, speed and frame time (Figs. 7-10).
+
+    Each setting draws its targets from ``np.random.default_rng([seed, int(speed),
+    round(1000 T)])`` (the same targets under every stopping rule). Besides the columns of
+    :func:`accuracy_experiment` each row holds ``stop`` (the rule's name), the robust
+    (``1.4826`` MAD) standard deviations ``rob_x``, ``rob_y``, ``rob_vx``, ``rob_vy``, and
+    ``predr_x``, ``predr_vx``: Eqs. (8) and (12) with the pixel-rounding variance
+    :data:`ROUND_VAR` added to ``jitter_sigma**2``.
+
+    Returns
+    -------
+    rows : list of dict
+        One per setting, rules outermost, then speeds, then frame times.
+    raw : dict
+        ``(rule name, speed, T) -> (errors, seen in every frame)``: the ``(n_targets, 4)``
+        errors and a boolean mask of the targets detected in all ``N_p`` frames.
+    """
+    speeds = [as_real(v, "speeds", 0, low_open=True) for v in speeds]
+    frame_times = [as_real(T, "frame_times", 0, low_open=True) for T in frame_times]
+    if not speeds or not frame_times:
+        raise ValueError("speeds and frame_times must not be empty")
+    jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
+    rows, raw = [], {}
+    for stop, stop_name, schedule in stops:
+        for v in speeds:
+            for T in frame_times:
+                r = accuracy_experiment(np.random.default_rng([seed, int(v), int(round(T * 1000))]), v, T,
+                                        total_time=total_time, n_targets=n_targets, jitter_sigma=jitter_sigma,
+                                        return_errors=True, stop_fraction=stop, dx_schedule=schedule)
+                E, seen = r.pop("errors"), r.pop("n_seen")
+                raw[(stop_name, v, T)] = (E, seen == r["n_p"])
+                mad = 1.4826 * np.median(np.abs(E - np.median(E, axis=0)), axis=0)
+                r.update({"stop": stop_name, "rob_x": mad[0], "rob_y": mad[1], "rob_vx": mad[2], "rob_vy": mad[3]})
+                rw = track_covariance(v, T, r["n_p"], drho=2.0,
+                                      jitter_sigma=float(np.sqrt(jitter_sigma ** 2 + ROUND_VAR)), total_time=total_time)
+                r.update({"predr_x": float(np.sqrt(rw["var_x"])), "predr_vx": float(np.sqrt(rw["var_vx"]))})
+                rows.append(r)
+    return rows, raw
+
+
+def within_counts(raw: dict, table: object, stop_name: str, rounding: bool,
+                  full_only: bool) -> dict[str, int]:
+    """In how many settings of rule ``stop_name`` each experimental std is within its prediction.
+
+    ``raw`` and ``table`` (a DataFrame of the rows) come from :func:`accuracy_sweep`. The
+    std of ``x'``, ``y'``, ``v_x'``, ``v_y'`` errors (of the targets seen in every frame
+    if ``full_only``) is compared with ``pred_*``, or for ``x'`` and ``v_x'`` with
+    ``predr_*`` when ``rounding``. Returns ``{"x": n, "y": n, "vx": n, "vy": n}``.
+    """
+    if not isinstance(raw, dict):
+        raise TypeError(f"raw must be the dict returned by accuracy_sweep, got {type(raw).__name__}")
+    keys = [k for k in raw if k[0] == stop_name]
+    if not keys:
+        raise ValueError(f"stop_name {stop_name!r} is not a rule of the sweep")
+    out = {}
+    for k, i in (("x", 0), ("y", 1), ("vx", 2), ("vy", 3)):
+        n = 0
+        for sn, v, T in keys:
+            E, full = raw[(sn, v, T)]
+            e = E[full, i] if full_only else E[:, i]
+            row = table[(table["stop"] == sn) & (table["speed"] == v) & (table["T"] == T)].iloc[0]  # type: ignore[index]
+            pred = row[f"predr_{k}"] if rounding and k in ("x", "vx") else row[f"pred_{k}"]
+            n += int(e.size > 1 and e.std(ddof=1) <= pred)
+        out[k] = n
     return out
