@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from projtrack._validation import as_choice, as_real, as_shape2
+from projtrack._validation import as_choice, as_probability, as_real, as_shape2
 from projtrack.hough._checks import _check_hint, _check_origin, _check_points, _origin_xy
 
 __all__ = [
@@ -213,8 +213,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
             or (dx_schedule == "double" and (dx_max & (dx_max - 1)) != 0):
         raise ValueError(f"dx_max must be an integer >= 1 (a power of two when doubling), got {dx_max!r}")
-    if not (0 < confirm_fraction <= 1):
-        raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
+    confirm_fraction = as_probability(confirm_fraction, "confirm_fraction", low_open=True)
     stop = confirm_fraction if stop_fraction is None else stop_fraction
     if isinstance(stop, bool) or not isinstance(stop, (int, float, np.integer, np.floating)) or not (0 < stop <= 1):
         raise ValueError(f"stop_fraction must be None or in (0, 1], got {stop_fraction!r}")
@@ -275,14 +274,12 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
         ``v_x^2 / (3 N_p^2) + sigma_j^2 / (N_p^2 T^2)`` (Eq. (12)), ``var_vy``:
         ``4 drho^2 / (3 T_T^2)`` (Eq. (13)).
     """
-    if not np.isfinite(speed) or speed < 0:
-        raise ValueError(f"speed must be a non-negative finite number, got {speed!r}")
+    speed = as_real(speed, "speed", 0)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
     if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
         raise ValueError(f"n_frames must be a positive int, got {n_frames!r}")
     drho = as_real(drho, "drho", 0, low_open=True)
-    if not np.isfinite(jitter_sigma) or jitter_sigma < 0:
-        raise ValueError(f"jitter_sigma must be non-negative, got {jitter_sigma!r}")
+    jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
     TT = n_frames * T if total_time is None else as_real(total_time, "total_time", 0, low_open=True)
     Np = float(n_frames)
     return {
@@ -365,8 +362,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     """
     shape = as_shape2(shape)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
-    if not (0 < p_detect <= 1):
-        raise ValueError(f"p_detect must be in (0, 1], got {p_detect!r}")
+    p_detect = as_probability(p_detect, "p_detect", low_open=True)
     counts, x0, d = strip_projection(points, shape, rho, theta_deg, half_width=drho,
                                      heading_hint=heading_hint, origin=origin)
     if not np.any(counts):

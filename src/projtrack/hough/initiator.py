@@ -7,7 +7,7 @@ from math import ceil
 
 import numpy as np
 
-from projtrack._validation import as_real, as_shape2
+from projtrack._validation import as_probability, as_real, as_shape2
 from projtrack.hough._checks import _check_frames, _check_hint
 from projtrack.hough.estimate import TrackEstimate, estimate_track, strip_projection
 from projtrack.hough.peaks import detect_peaks
@@ -83,19 +83,13 @@ class TrackInitiator:
         if min_votes is not None and (not np.isfinite(min_votes) or min_votes < 0):
             raise ValueError(f"min_votes must be None or a non-negative number, got {min_votes!r}")
         self.min_votes = min_votes
-        if not (0 < p_detect <= 1):
-            raise ValueError(f"p_detect must be in (0, 1], got {p_detect!r}")
-        self.p_detect = float(p_detect)
-        if not np.isfinite(jitter_sigma) or jitter_sigma < 0:
-            raise ValueError(f"jitter_sigma must be non-negative, got {jitter_sigma!r}")
-        self.jitter_sigma = float(jitter_sigma)
+        self.p_detect = as_probability(p_detect, "p_detect", low_open=True)
+        self.jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
         if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
                 or (dx_max & (dx_max - 1)) != 0:
             raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
         self.dx_max = int(dx_max)
-        if not (0 < confirm_fraction <= 1):
-            raise ValueError(f"confirm_fraction must be in (0, 1], got {confirm_fraction!r}")
-        self.confirm_fraction = float(confirm_fraction)
+        self.confirm_fraction = as_probability(confirm_fraction, "confirm_fraction", low_open=True)
         self.heading_hint = tuple(_check_hint(heading_hint))
         if exclude_ridge is not None and (isinstance(exclude_ridge, bool)
                                           or not isinstance(exclude_ridge, (int, np.integer))
