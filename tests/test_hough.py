@@ -518,7 +518,7 @@ def test_points_on_a_rho_bin_boundary_vote_the_same_on_every_cpu(theta, eps, mon
     # corner origin, drho = 1: a pixel at odd x (60/120 deg) or odd y (30/150 deg) has
     # rho = +-k/2 exactly, on a bin boundary; cos/sin may be off in the last bits, and the
     # bin must not depend on that: ties go up.
-    from projtrack import hough as hmod
+    from projtrack.hough import transform as hmod
     monkeypatch.setattr(hmod, "np", _PerturbedTrig(eps))
     rhos, _ = hough_axes((16, 16), 1.0, 1.0, origin="corner")
     for k in (1, 3, 5, 7):

@@ -38,6 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from projtrack._validation import as_probability, as_real, as_rng, as_shape2
+
 __all__ = [
     "BoostTrajectory",
     "random_launches",
@@ -88,18 +90,17 @@ class BoostTrajectory:
 
 def frame_times(n_frames: int, frame_time: float = 0.25, start: float = 0.0) -> np.ndarray:
     """``start + k T`` for ``k = 0 .. n_frames - 1``."""
-    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
-        raise ValueError(f"n_frames must be a positive int, got {n_frames!r}")
-    if not np.isfinite(frame_time) or frame_time <= 0:
-        raise ValueError(f"frame_time must be positive, got {frame_time!r}")
+    _check_count(n_frames, "n_frames", 1)
+    frame_time = as_real(frame_time, "frame_time", 0, low_open=True)
     return start + frame_time * np.arange(n_frames)
 
 
-def _check_shape(shape: object) -> tuple[int, int]:
-    if (not isinstance(shape, (tuple, list)) or len(shape) != 2
-            or any(isinstance(s, bool) or not isinstance(s, (int, np.integer)) or s <= 0 for s in shape)):
-        raise ValueError(f"shape must be a (height, width) pair of positive ints, got {shape!r}")
-    return int(shape[0]), int(shape[1])
+def _check_count(n: object, name: str, minimum: int) -> int:
+    # A count that is not an int is a wrong value here (ValueError), as it always was.
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < minimum:
+        what = "non-negative" if minimum == 0 else "positive"
+        raise ValueError(f"{name} must be a {what} int, got {n!r}")
+    return int(n)
 
 
 def _check_range(r: object, name: str, positive: bool = False) -> tuple[float, float]:
@@ -134,17 +135,14 @@ def random_launches(rng: np.random.Generator, n: int, *, shape: tuple[int, int] 
     v0 : float
         Initial vertical speed, pixels per second.
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-        raise ValueError(f"n must be a non-negative int, got {n!r}")
-    _, w = _check_shape(shape)
+    as_rng(rng)
+    _check_count(n, "n", 0)
+    _, w = as_shape2(shape)
     t_lo, t_hi = _check_range(launch_time_range, "launch_time_range")
     y_lo, y_hi = _check_range(site_y_range, "site_y_range")
     a_lo, a_hi = _check_range(tilt_deg_range, "tilt_deg_range")
     g_lo, g_hi = _check_range(accel_range, "accel_range", positive=True)
-    if not np.isfinite(v0) or v0 < 0:
-        raise ValueError(f"v0 must be a non-negative number, got {v0!r}")
+    v0 = as_real(v0, "v0", 0)
     out = []
     for _ in range(int(n)):
         t0 = rng.uniform(t_lo, t_hi)
@@ -183,13 +181,10 @@ def in_view_launches(rng: np.random.Generator, n: int, times: object, *,
     RuntimeError
         If ``max_tries`` draws do not give ``n`` such launches.
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-        raise ValueError(f"n must be a non-negative int, got {n!r}")
-    if isinstance(max_tries, bool) or not isinstance(max_tries, (int, np.integer)) or max_tries < 1:
-        raise ValueError(f"max_tries must be a positive int, got {max_tries!r}")
-    shape = _check_shape(shape)
+    as_rng(rng)
+    _check_count(n, "n", 0)
+    _check_count(max_tries, "max_tries", 1)
+    shape = as_shape2(shape)
     t = np.asarray(times, dtype=float)
     if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)):
         raise ValueError("times must be a non-empty 1-D array of finite times")
@@ -216,9 +211,8 @@ def continuous_launches(rng: np.random.Generator, n: int = 15, duration: float =
     launched before the start may already be in view); a launch is kept when it is in
     view for at least ``min_time_in_view`` seconds of ``[0, duration]``.
     """
-    shape = _check_shape(shape)
-    if not np.isfinite(duration) or duration <= 0:
-        raise ValueError(f"duration must be positive, got {duration!r}")
+    shape = as_shape2(shape)
+    duration = as_real(duration, "duration", 0, low_open=True)
     t = frame_times(int(round(duration / frame_time)), frame_time)
     kw = dict(launch_time_range=(-20.0, duration - min_time_in_view))
     kw.update(launch_kw)
@@ -245,13 +239,10 @@ def straight_targets(n: int, speed: float, *, shape: tuple[int, int] = (256, 256
     paper's "angles evenly distributed between theta = 90 and 180 degrees"), so the
     direction of motion ``theta - 90`` runs from +x (0 degrees) to +y (90 degrees).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
-    if not np.isfinite(speed) or speed <= 0:
-        raise ValueError(f"speed must be positive, got {speed!r}")
-    h, w = _check_shape(shape)
+    as_rng(rng)
+    _check_count(n, "n", 1)
+    speed = as_real(speed, "speed", 0, low_open=True)
+    h, w = as_shape2(shape)
     lo, hi = _check_range(theta_range_deg, "theta_range_deg")
     thetas = np.linspace(lo, hi, n)
     out = []
@@ -308,19 +299,15 @@ def render_frames(trajectories: Sequence[BoostTrajectory], times: object, rng: n
     ``n_noise`` false pixels are drawn uniformly over the frame. Duplicate pixels of one
     frame are merged (the target's label wins).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    shape = _check_shape(shape)
+    as_rng(rng)
+    shape = as_shape2(shape)
     h, w = shape
     t = np.asarray(times, dtype=float)
     if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)):
         raise ValueError("times must be a non-empty 1-D array of finite times")
-    if not (0.0 <= p_detect <= 1.0):
-        raise ValueError(f"p_detect must be in [0, 1], got {p_detect!r}")
-    if not np.isfinite(jitter_sigma) or jitter_sigma < 0:
-        raise ValueError(f"jitter_sigma must be non-negative, got {jitter_sigma!r}")
-    if isinstance(n_noise, bool) or not isinstance(n_noise, (int, np.integer)) or n_noise < 0:
-        raise ValueError(f"n_noise must be a non-negative int, got {n_noise!r}")
+    p_detect = as_probability(p_detect, "p_detect")
+    jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
+    n_noise = _check_count(n_noise, "n_noise", 0)
     n_t = len(trajectories)
     truth = (np.stack([tr.position(t) for tr in trajectories], axis=1) if n_t
              else np.zeros((t.size, 0, 2)))

@@ -1,0 +1,43 @@
+"""Experiments of the Hough track-initiation chapter (Casasent & Slaski 1988).
+
+* :mod:`~projtrack.experiments.hough.scoring`: which target a detected line belongs to,
+  and the scorecard of one initiator run on a scene with ground truth.
+* :mod:`~projtrack.experiments.hough.salvo`: the six-launch scenes of Figs. 2-3 and
+  their Monte Carlo trials (counts, why targets are missed, speeds at ``P_D = 0.9``).
+* :mod:`~projtrack.experiments.hough.thresholded`: the plain against the thresholded HT
+  on noisy scenes (Figs. 5-6 and the operating curves).
+* :mod:`~projtrack.experiments.hough.continuous`: the 120-s run of Fig. 4 in 5-s segments.
+* :mod:`~projtrack.experiments.hough.accuracy`: the Sec. VI accuracy experiment (errors
+  of position and velocity against the predicted standard deviations).
+* :mod:`~projtrack.experiments.hough.plots`: drawing a composite with its tracks (Figs. 2-3).
+"""
+
+from __future__ import annotations
+
+from projtrack.experiments.hough.accuracy import ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, within_counts
+from projtrack.experiments.hough.continuous import continuous_run, never_detected
+from projtrack.experiments.hough.salvo import (SALVO_TIMES, reading_trial, salvo_scene, salvo_trial,
+                                               speeds_by_target)
+from projtrack.experiments.hough.scoring import evaluate_initiation, match_lines
+from projtrack.experiments.hough.thresholded import noisy_scene, plain_and_thresholded, roc_trial, rule_counts
+
+__all__ = [
+    "match_lines",
+    "evaluate_initiation",
+    "accuracy_experiment",
+    "STOPS",
+    "ROUND_VAR",
+    "accuracy_sweep",
+    "within_counts",
+    "SALVO_TIMES",
+    "salvo_scene",
+    "speeds_by_target",
+    "salvo_trial",
+    "reading_trial",
+    "continuous_run",
+    "never_detected",
+    "noisy_scene",
+    "plain_and_thresholded",
+    "rule_counts",
+    "roc_trial",
+]

@@ -1,0 +1,172 @@
+"""The track initiator: HT of a stack of frames, peaks, and a track per peak (Secs. II-V)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from math import ceil
+
+import numpy as np
+
+from projtrack._validation import as_probability, as_real, as_shape2
+from projtrack.hough._checks import _check_frames, _check_hint
+from projtrack.hough.estimate import TrackEstimate, estimate_track, strip_projection
+from projtrack.hough.peaks import detect_peaks
+from projtrack.hough.transform import hough_transform, thresholded_hough_transform
+
+__all__ = ["TrackInitiator"]
+
+
+class TrackInitiator:
+    """Hough-transform track initiator of Casasent & Slaski (Secs. II-V).
+
+    :meth:`initiate` forms the composite of a stack of frames, its Hough transform
+    (plain, or thresholded as in Sec. V), detects the peaks (:func:`detect_peaks`),
+    and confirms and estimates a track for every peak (:func:`estimate_track`).
+
+    Parameters
+    ----------
+    drho, dtheta_deg : float
+        HT resolutions (2 pixels, 1 degree).
+    thresholded : bool, default False
+        Use the thresholded HT of Sec. V.
+    ratio, bridge : float
+        Peak-detection thresholds (3 and 1.5).
+    min_votes : float or None
+        Minimum-vote floor of the peak detector; ``None`` (default) means
+        ``max(3, ceil(n_frames / 4))``: a track must have been seen in at least a
+        quarter of the frames of the composite. One rule for every experiment.
+    p_detect : float
+        ``P_D`` used in the velocity compensation of Eq. (7).
+    jitter_sigma : float
+        ``sigma_j`` used in the covariances of Eqs. (8) and (12).
+    dx_max : int
+        Largest projection resolution (16 in Sec. V).
+    confirm_fraction : float
+        The 75 % rule.
+    heading_hint : (float, float)
+        Prior direction of motion used to orient ``x'`` (climbing targets: +y).
+    exclude_ridge : int or None
+        Neighbourhood of the peak detector (:func:`detect_peaks`): ``None`` (default)
+        the paper's full ``5 x 5`` window; ``1`` the window without the line's own
+        ``rho`` ridge (not the paper's rule).
+
+    Attributes
+    ----------
+    H_ : ndarray
+        The Hough plane of the last :meth:`initiate` call.
+    rhos_ : ndarray
+        Its ``rho`` axis.
+    thetas_deg_ : ndarray
+        Its ``theta`` axis, degrees.
+    peaks_ : list of HoughPeak
+        The detected peaks.
+    tracks_ : list of TrackEstimate
+        One per peak whose strip holds at least one point, confirmed or not.
+    empty_peaks_ : list of HoughPeak
+        Peaks whose strip ``|y'| <= drho`` holds no point of the composite (possible
+        only for a peak interpolated between cells); they are neither confirmed nor
+        estimated, since :func:`estimate_track` rejects an empty strip.
+    frame_time_ : float
+        The frame time ``T`` of the last stack.
+    """
+
+    def __init__(self, *, drho: float = 2.0, dtheta_deg: float = 1.0, thresholded: bool = False,
+                 ratio: float = 3.0, bridge: float = 1.5, min_votes: float | None = None,
+                 p_detect: float = 1.0, jitter_sigma: float = 0.5, dx_max: int = 16,
+                 confirm_fraction: float = 0.75, heading_hint: Sequence[float] = (0.0, 1.0),
+                 exclude_ridge: int | None = None):
+        self.drho = as_real(drho, "drho", 0, low_open=True)
+        self.dtheta_deg = as_real(dtheta_deg, "dtheta_deg", 0, low_open=True)
+        self.thresholded = bool(thresholded)
+        self.ratio = as_real(ratio, "ratio", 0, low_open=True)
+        self.bridge = as_real(bridge, "bridge", 0, low_open=True)
+        if min_votes is not None and (not np.isfinite(min_votes) or min_votes < 0):
+            raise ValueError(f"min_votes must be None or a non-negative number, got {min_votes!r}")
+        self.min_votes = min_votes
+        self.p_detect = as_probability(p_detect, "p_detect", low_open=True)
+        self.jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
+        if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
+                or (dx_max & (dx_max - 1)) != 0:
+            raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
+        self.dx_max = int(dx_max)
+        self.confirm_fraction = as_probability(confirm_fraction, "confirm_fraction", low_open=True)
+        self.heading_hint = tuple(_check_hint(heading_hint))
+        if exclude_ridge is not None and (isinstance(exclude_ridge, bool)
+                                          or not isinstance(exclude_ridge, (int, np.integer))
+                                          or not 0 <= exclude_ridge < 2):
+            raise ValueError(f"exclude_ridge must be None, 0 or 1 (5 x 5 window), got {exclude_ridge!r}")
+        self.exclude_ridge = exclude_ridge
+
+    @staticmethod
+    def default_min_votes(n_frames: int) -> int:
+        """The floor used when ``min_votes is None``: ``max(3, ceil(n_frames / 4))``."""
+        return max(3, int(ceil(n_frames / 4)))
+
+    def _check_times(self, times: object, n: int) -> float:
+        t = np.asarray(times, dtype=float)
+        if t.ndim != 1 or t.size != n:
+            raise ValueError(f"times must be a 1-D array with one time per frame ({n}), got shape {t.shape}")
+        if not np.all(np.isfinite(t)):
+            raise ValueError("times must be finite")
+        if n == 1:
+            raise ValueError("need at least two frames (and their times) to estimate a velocity")
+        dt = np.diff(t)
+        if np.any(dt <= 0):
+            raise ValueError("times must be strictly increasing")
+        T = float(dt.mean())
+        if np.max(np.abs(dt - T)) > 1e-6 * max(1.0, T):
+            raise ValueError("times must be evenly spaced (a constant frame time T); got spacings from "
+                             f"{dt.min():g} to {dt.max():g}")
+        return T
+
+    def hough(self, frames: Sequence[object], shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The HT stage alone: plain HT of the composite, or the thresholded HT."""
+        shape = as_shape2(shape)
+        pts = _check_frames(frames, shape)
+        if self.thresholded:
+            return thresholded_hough_transform(pts, shape, self.drho, self.dtheta_deg)
+        comp = np.concatenate(pts, axis=0)
+        return hough_transform(comp, shape, self.drho, self.dtheta_deg)
+
+    def initiate(self, frames: Sequence[object], times: object, shape: tuple[int, int]) -> list[TrackEstimate]:
+        """Detect lines in the composite of ``frames`` and estimate their tracks.
+
+        Parameters
+        ----------
+        frames : sequence of array_like (N_k, 2)
+            Detections (``(x, y)`` pixels) of each frame, in time order.
+        times : array_like
+            Time of each frame, strictly increasing and evenly spaced (``T``).
+        shape : (int, int)
+            ``(height, width)`` of the frames.
+
+        Returns
+        -------
+        list of TrackEstimate
+            The confirmed tracks (all lines with their verdict are in ``tracks_``).
+            Positions refer to the last frame of the stack.
+        """
+        shape = as_shape2(shape)
+        pts = _check_frames(frames, shape)
+        T = self._check_times(times, len(pts))
+        n = len(pts)
+        H, rhos, thetas = self.hough(pts, shape)
+        floor = self.default_min_votes(n) if self.min_votes is None else self.min_votes
+        peaks = detect_peaks(H, rhos, thetas, ratio=self.ratio, bridge=self.bridge, min_votes=floor,
+                             exclude_ridge=self.exclude_ridge)
+        comp = np.concatenate(pts, axis=0)
+        tracks, empty = [], []
+        for p in peaks:
+            counts, _, _ = strip_projection(comp, shape, p.rho, p.theta_deg, half_width=self.drho,
+                                            heading_hint=self.heading_hint)
+            if not np.any(counts):  # possible only for a peak bridged between cells: nothing to project
+                empty.append(p)
+                continue
+            tracks.append(estimate_track(comp, shape, p.rho, p.theta_deg, frame_time=T, n_frames=n,
+                                         drho=self.drho, p_detect=self.p_detect, jitter_sigma=self.jitter_sigma,
+                                         dx_max=self.dx_max, confirm_fraction=self.confirm_fraction,
+                                         heading_hint=self.heading_hint, votes=p.votes))
+        self.H_, self.rhos_, self.thetas_deg_ = H, rhos, thetas
+        self.peaks_, self.tracks_, self.frame_time_ = peaks, tracks, T
+        self.empty_peaks_ = empty
+        return [t for t in tracks if t.confirmed]

@@ -1,0 +1,275 @@
+"""Peak detection in the Hough plane (Sec. VII).
+
+The ``5 x 5`` local average (the defocused HT, :func:`local_average`), the ratio rule
+with bridging of split peaks and the wrap-around of ``theta`` at 0/180 degrees joined
+by union-find (:func:`detect_peaks`, :func:`find_peaks`), and which lines share an
+averaging window (:func:`window_neighbours`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from projtrack._validation import as_real
+from projtrack.hough._checks import _check_plane
+
+__all__ = [
+    "local_average",
+    "HoughPeak",
+    "detect_peaks",
+    "find_peaks",
+    "window_neighbours",
+]
+
+
+def _wraps(rhos: np.ndarray, thetas: np.ndarray) -> bool:
+    """True when theta covers [0, 180) uniformly and rho is symmetric: the plane wraps."""
+    dt = thetas[1] - thetas[0]
+    return (abs(thetas[0]) < 1e-9 and abs(thetas[-1] + dt - 180.0) < 1e-6
+            and np.allclose(np.diff(thetas), dt) and np.allclose(rhos, -rhos[::-1]))
+
+
+def local_average(H: object, size: int = 5, *, rhos: object | None = None,
+                  thetas_deg: object | None = None, exclude_ridge: int | None = None) -> np.ndarray:
+    """The ``size x size`` local average of the Hough plane (the defocused HT of Sec. VII).
+
+    Outside the plane ``rho`` is padded with zeros; ``theta`` wraps around with
+    ``(rho, theta + 180) = (-rho, theta)`` when ``rhos`` and ``thetas_deg`` show that the
+    plane covers [0, 180) with a symmetric ``rho`` axis, and is zero-padded otherwise.
+
+    Parameters
+    ----------
+    H : array_like, 2-D
+        Hough plane, ``rho`` along axis 0 and ``theta`` along axis 1.
+    size : int, default 5
+        Odd side of the window.
+    rhos, thetas_deg : array_like, keyword-only, optional
+        The plane's axes (used only to decide the wrap-around in ``theta``).
+    exclude_ridge : int or None, keyword-only
+        ``None`` (default, the paper's defocused HT): the mean over the whole window.
+        An int ``r >= 0`` with ``2 r + 1 < size``: the mean over the window without the
+        ``2 r + 1`` rows of ``rho`` bins centred on the cell, i.e. without the ridge
+        that a line's own votes form along ``theta`` at its ``rho`` (every point of a
+        line votes in each ``theta`` column of the window, close to the line's ``rho``).
+        What remains measures the background bias of the plane, not the line itself.
+        Not the paper's rule; see :func:`detect_peaks`.
+    """
+    Hf = np.asarray(H, dtype=float)
+    if Hf.ndim != 2:
+        raise ValueError(f"H must be 2-D, got shape {Hf.shape}")
+    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1 or size % 2 == 0:
+        raise ValueError(f"size must be a positive odd int, got {size!r}")
+    k = size // 2
+    if exclude_ridge is not None:
+        if isinstance(exclude_ridge, bool) or not isinstance(exclude_ridge, (int, np.integer)) \
+                or exclude_ridge < 0 or 2 * exclude_ridge + 1 >= size:
+            raise ValueError(f"exclude_ridge must be None or an int r >= 0 with 2 r + 1 < size ({size}), "
+                             f"got {exclude_ridge!r}")
+    wrap = False
+    if rhos is not None and thetas_deg is not None:
+        _, r, t = _check_plane(Hf, rhos, thetas_deg)
+        wrap = _wraps(r, t)
+    if wrap and k > 0:
+        left, right = Hf[::-1, -k:], Hf[::-1, :k]
+        padded = np.concatenate([left, Hf, right], axis=1)
+    else:
+        padded = np.pad(Hf, ((0, 0), (k, k)))
+    padded = np.pad(padded, ((k, k), (0, 0)))
+    avg = ndimage.uniform_filter(padded, size=size, mode="constant", cval=0.0)
+    if exclude_ridge is None:
+        return avg[k:k + Hf.shape[0], k:k + Hf.shape[1]]
+    r = int(exclude_ridge)
+    ridge = ndimage.uniform_filter(padded, size=(2 * r + 1, size), mode="constant", cval=0.0)
+    total = avg * size * size - ridge * (2 * r + 1) * size
+    out = total / ((size - 2 * r - 1) * size)
+    out = out[k:k + Hf.shape[0], k:k + Hf.shape[1]]
+    return np.where(np.abs(out) < 1e-9 * max(1.0, float(np.abs(Hf).max(initial=0.0))), 0.0, out)
+
+
+@dataclass(frozen=True)
+class HoughPeak:
+    """One detected line: the centroid of a group of peak cells.
+
+    Attributes
+    ----------
+    rho, theta_deg : float
+        Centroid of the group (weighted by the votes), the line's parameters.
+    votes : float
+        Largest cell value of the group.
+    ratio : float
+        Largest ratio of exact to averaged HT in the group.
+    n_cells : int
+        Number of cells in the group.
+    """
+
+    rho: float
+    theta_deg: float
+    votes: float
+    ratio: float
+    n_cells: int
+
+
+def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0,
+                 bridge: float = 1.5, min_votes: float = 3.0, size: int = 5,
+                 exclude_ridge: int | None = None) -> list[HoughPeak]:
+    """Peak detector of Sec. VII with a minimum-vote floor; see :func:`find_peaks`.
+
+    ``exclude_ridge`` (default ``None``, the paper's rule) is passed to
+    :func:`local_average`: with ``exclude_ridge=1`` the ratio compares a cell with the
+    mean of its ``5 x 5`` window without the three ``rho`` rows through it, i.e. with the
+    background of the plane rather than with the line's own ridge. For an ideal line of
+    ``N`` votes on a bias ``b`` the paper's ratio is ``N / (N/5 + b) < 5``, the
+    ridge-free one ``N / b``.
+
+    Returns
+    -------
+    list of HoughPeak
+        Sorted by decreasing ``votes`` (then ``ratio``).
+    """
+    Hf, r, t = _check_plane(H, rhos, thetas_deg)
+    ratio = as_real(ratio, "ratio", 0, low_open=True)
+    bridge = as_real(bridge, "bridge", 0, low_open=True)
+    if bridge > ratio:
+        raise ValueError(f"bridge ({bridge}) must not exceed ratio ({ratio})")
+    if isinstance(min_votes, bool) or not isinstance(min_votes, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(min_votes) or min_votes < 0:
+        raise ValueError(f"min_votes must be a non-negative number, got {min_votes!r}")
+    avg = local_average(Hf, size, rhos=r, thetas_deg=t, exclude_ridge=exclude_ridge)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # an empty neighbourhood (possible only with exclude_ridge) under a voted cell: infinite ratio
+        R = np.where(avg > 0, Hf / np.where(avg > 0, avg, 1.0), np.where(Hf > 0, np.inf, 0.0))
+    ok = Hf >= max(float(min_votes), np.finfo(float).tiny)
+    strong = (R > ratio) & ok
+    weak = (R > bridge) & ok
+    labels, n = ndimage.label(weak, structure=np.ones((3, 3), dtype=bool))
+    if n == 0:
+        return []
+    wrap = _wraps(r, t)
+    seam = np.zeros(n + 1, dtype=bool)
+    if wrap:  # join groups across theta = 0 / 180, where (rho, 180) is (-rho, 0)
+        parent = np.arange(n + 1)
+
+        def root(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        first, last = labels[:, 0], labels[::-1, -1]  # last column mirrored in rho
+        for k in (-1, 0, 1):
+            a = first[max(0, k):first.size + min(0, k)]
+            b = last[max(0, -k):last.size + min(0, -k)]
+            for u, v in zip(a[(a > 0) & (b > 0)], b[(a > 0) & (b > 0)]):
+                ru, rv = root(int(u)), root(int(v))
+                if ru != rv:
+                    parent[max(ru, rv)] = min(ru, rv)
+                seam[ru] = seam[rv] = True
+        roots = np.array([root(a) for a in range(n + 1)])
+        seam = seam[roots]
+        labels = roots[labels]
+    ii, jj = np.nonzero(labels)
+    lab = labels[ii, jj]
+    h, rr, tt, rat = Hf[ii, jj], r[ii], t[jj], R[ii, jj]
+    if wrap and seam.any():  # express seam groups on theta in (-90, 90)
+        flip = seam[lab] & (tt > 90.0)
+        rr = np.where(flip, -rr, rr)
+        tt = np.where(flip, tt - 180.0, tt)
+    sc = strong[ii, jj]
+    has_strong = np.bincount(lab, weights=sc, minlength=n + 1) > 0
+    # The centroid is taken over the peak points (ratio above 3) of the group; the
+    # bridging cells (ratio above 1.5) only join split peaks into one group.
+    hs = h * sc
+    wsum = np.bincount(lab, weights=hs, minlength=n + 1)
+    rho_c = np.bincount(lab, weights=hs * rr, minlength=n + 1)
+    th_c = np.bincount(lab, weights=hs * tt, minlength=n + 1)
+    ncell = np.bincount(lab, minlength=n + 1)
+    vmax = np.zeros(n + 1)
+    np.maximum.at(vmax, lab, h)
+    rmax = np.zeros(n + 1)
+    np.maximum.at(rmax, lab, rat)
+    keep = np.flatnonzero(has_strong & (wsum > 0))
+    if keep.size == 0:
+        return []
+    peaks = []
+    for k in keep:
+        rho_k, th_k = rho_c[k] / wsum[k], th_c[k] / wsum[k]
+        if th_k < 0:
+            rho_k, th_k = -rho_k, th_k + 180.0
+        peaks.append(HoughPeak(float(rho_k), float(th_k), float(vmax[k]), float(rmax[k]), int(ncell[k])))
+    peaks.sort(key=lambda p: (-p.votes, -p.ratio, p.theta_deg, p.rho))
+    if wrap:  # one line seen at both ends of the theta axis: keep the stronger group
+        dr, dt = r[1] - r[0], t[1] - t[0]
+        kept: list[HoughPeak] = []
+        for p in peaks:
+            dup = any(abs(abs(p.theta_deg - q.theta_deg) - 180.0) <= 2 * dt and abs(p.rho + q.rho) <= 2 * dr
+                      for q in kept)
+            if not dup:
+                kept.append(p)
+        peaks = kept
+    return peaks
+
+
+def find_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0, bridge: float = 1.5,
+               min_votes: float = 3.0, size: int = 5) -> list[tuple[float, float]]:
+    """Lines of a Hough plane by the ratio rule of Sec. VII.
+
+    A cell is a peak cell when the ratio of the exact HT to its ``5 x 5`` local average
+    (:func:`local_average`, the optically defocused HT) exceeds ``ratio = 3``. Peaks
+    that split are bridged: the cells whose ratio exceeds ``bridge = 1.5`` are grouped
+    by 8-adjacency and a group is kept when at least one of its cells exceeds 3. Each
+    group gives one line at its vote-weighted centroid.
+
+    The minimum-vote floor. On a sparse accumulator the ratio alone flags cells with
+    one or two votes surrounded by empty cells (the paper's Hough plane sat on a large
+    bias, so this could not happen there). Any two points define a line, so a cell
+    with two votes is no evidence of collinearity; the default floor ``min_votes = 3``
+    is the smallest count that is. :class:`TrackInitiator` raises it to a quarter of
+    the number of frames of the composite (a track must have been seen in at least a
+    quarter of the frames), one rule for every experiment.
+
+    Parameters
+    ----------
+    H : array_like, shape (len(rhos), len(thetas_deg))
+        Non-negative Hough plane (e.g. from :func:`hough_transform`).
+    rhos, thetas_deg : array_like
+        Its axes, strictly increasing.
+    ratio, bridge : float, keyword-only
+        The paper's thresholds, 3 and 1.5.
+    min_votes : float, keyword-only, default 3
+        Cells with fewer votes are never peak cells.
+    size : int, keyword-only, default 5
+        Side of the averaging window.
+
+    Returns
+    -------
+    list of (rho, theta_deg)
+        One pair of floats per detected line, strongest first.
+    """
+    return [(p.rho, p.theta_deg) for p in detect_peaks(H, rhos, thetas_deg, ratio=ratio, bridge=bridge,
+                                                       min_votes=min_votes, size=size)]
+
+
+def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0, dtheta_deg: float = 1.0,
+                      size: int = 5) -> np.ndarray:
+    """For each line, whether another line falls inside its ``size x size`` averaging window.
+
+    Two lines share a window when ``|rho_1 - rho_2| <= (size // 2) drho`` and their angles
+    differ by at most ``(size // 2) dtheta`` (taking ``(rho, theta + 180) = (-rho, theta)``
+    into account): the second line then raises the local average of the first's peak.
+    """
+    k = size // 2
+    L = np.asarray(lines, dtype=float).reshape(-1, 2)
+    out = np.zeros(len(L), dtype=bool)
+    for a in range(len(L)):
+        for b in range(len(L)):
+            if a == b:
+                continue
+            (r1, t1), (r2, t2) = L[a], L[b]
+            direct = abs(r1 - r2) <= k * drho and abs(t1 - t2) <= k * dtheta_deg
+            wrapped = abs(r1 + r2) <= k * drho and abs(abs(t1 - t2) - 180.0) <= k * dtheta_deg
+            out[a] |= bool(direct or wrapped)
+    return out

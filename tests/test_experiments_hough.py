@@ -1,0 +1,146 @@
+"""Tests of projtrack.experiments.hough (the studies of the Hough chapter)."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import projtrack.hough as hough  # noqa: E402
+from projtrack.experiments import hough as ex  # noqa: E402
+from projtrack.experiments.hough.plots import draw_initiation  # noqa: E402
+from projtrack.montecarlo import run as mc_run  # noqa: E402
+
+
+def test_moved_names_are_still_reachable_from_the_algorithm_package():
+    for name in ("match_lines", "evaluate_initiation", "accuracy_experiment"):
+        assert getattr(hough, name) is getattr(ex, name)
+        assert name in hough.__all__
+    with pytest.raises(AttributeError):
+        hough.no_such_name  # noqa: B018
+
+
+def test_match_lines_assigns_the_line_through_a_target_and_rejects_a_false_one():
+    pts = np.array([[128.0, y] for y in range(60, 200, 10)] + [[10.0, 10.0], [240.0, 30.0]])
+    lab = np.array([0] * 14 + [-1, -1])
+    owner = ex.match_lines([(0.0, 0.0), (60.0, 90.0)], pts, lab, (256, 256))
+    assert owner.tolist() == [0, -1]
+    with pytest.raises(ValueError, match="min_fraction"):
+        ex.match_lines([(0.0, 0.0)], pts, lab, (256, 256), min_fraction=0.0)
+    with pytest.raises(ValueError, match="labels"):
+        ex.match_lines([(0.0, 0.0)], pts, lab[:-1], (256, 256))
+
+
+def test_salvo_scene_same_seed_same_trajectories_at_any_p_detect():
+    t1, f1 = ex.salvo_scene(5, 1.0)
+    t9, f9 = ex.salvo_scene(5, 0.9)
+    assert len(t1) == 6 and [a.launch_time for a in t1] == [a.launch_time for a in t9]
+    assert sum(map(len, f9.points)) < sum(map(len, f1.points))
+    with pytest.raises(ValueError, match="p_detect"):
+        ex.salvo_scene(5, 1.5)
+    with pytest.raises(TypeError, match="seed"):
+        ex.salvo_scene(5.0, 1.0)
+
+
+def test_salvo_trial_counts_are_consistent_and_reproducible():
+    a = mc_run(ex.salvo_trial, 1, np.random.default_rng(3), 3.0, True)[0]
+    b = mc_run(ex.salvo_trial, 1, np.random.default_rng(3), 3.0, True)[0]
+    assert a == b
+    assert 0 <= a["found"] <= a["targets"] <= 6
+    assert a["true lines"] + a["false lines"] >= a["found"]
+    assert len(a["diag"]) == 6 and all(d[0] in (True, False) for d in a["diag"])
+    assert all(s9 > 0 and s1 > 0 for _, s1, s9 in a["speeds"])
+    with pytest.raises(TypeError, match="Generator"):
+        ex.salvo_trial(3)
+    with pytest.raises(ValueError, match="ratio"):
+        ex.salvo_trial(np.random.default_rng(0), 0.0)
+
+
+def test_speeds_by_target_and_reading_trial():
+    assert ex.speeds_by_target({"tracks": [{"target": 2, "speed": 7.5}]}) == {2: 7.5}
+    with pytest.raises(TypeError):
+        ex.speeds_by_target([])
+    found, targets, false = ex.reading_trial(np.random.default_rng(1), {"accel_range": (0.3, 0.5)})
+    assert 0 <= found <= targets <= 6 and false >= 0
+    with pytest.raises(TypeError, match="launch_kw"):
+        ex.reading_trial(np.random.default_rng(1), None)
+
+
+def test_continuous_run_small_and_never_detected_agrees():
+    kw = dict(n_targets=3, duration=20.0)
+    r = ex.continuous_run(np.random.default_rng(7), **kw)
+    assert 0 <= r["detected"] <= r["possible"] and 0 <= r["seen"] <= r["crossed"] <= 3
+    assert len(r["fr"].points) == 80
+    assert ex.never_detected(np.random.default_rng(7), **kw) == r["crossed"] - r["seen"]
+    with pytest.raises(ValueError, match="min_in_view"):
+        ex.continuous_run(np.random.default_rng(7), min_in_view=21, **kw)
+    with pytest.raises(ValueError, match="duration"):
+        ex.never_detected(np.random.default_rng(7), duration=0.0)
+
+
+def test_accuracy_experiment_small():
+    r = ex.accuracy_experiment(np.random.default_rng(0), 10.0, 0.25, n_targets=4, return_errors=True)
+    assert r["n_p"] == 20 and r["errors"].shape == (4, 4)
+    assert r["std_y"] < 3 * r["pred_y"]
+    with pytest.raises(ValueError, match="frame_time"):
+        ex.accuracy_experiment(np.random.default_rng(0), 10.0, 0.0)
+
+
+def test_draw_initiation_draws_lines_and_predictions():
+    trajs, fr = ex.salvo_scene(11, 1.0)
+    init = hough.TrackInitiator()
+    res = ex.evaluate_initiation(init, fr, trajs)
+    fig, ax = plt.subplots()
+    draw_initiation(ax, fr, trajs, init, res, "t")
+    n_conf = sum(t.confirmed for t in init.tracks_)
+    assert len(ax.texts) == n_conf  # one prediction arrow per confirmed track
+    assert ax.get_title() == "t" and ax.get_xlim() == (0, 256)
+    plt.close(fig)
+
+
+def test_noisy_scene_and_plain_and_thresholded():
+    tr, fr = ex.noisy_scene(np.random.default_rng(2), n_noise=3, n_targets=2)
+    assert len(tr) == 2 and len(fr.points) == 21
+    both = ex.plain_and_thresholded(fr, tr)
+    assert set(both) == {"plain", "thresholded"}
+    assert both["thresholded"][0].thresholded and not both["plain"][0].thresholded
+    with pytest.raises(TypeError, match="Frames"):
+        ex.plain_and_thresholded(fr.points, tr)
+    with pytest.raises(ValueError, match="n_noise"):
+        ex.noisy_scene(np.random.default_rng(2), n_noise=-1)
+
+
+def test_rule_counts_and_roc_trial():
+    c = ex.rule_counts(np.random.default_rng(4), {"printed": {}, "ridge-free": {"exclude_ridge": 1}})
+    assert set(c) == {"printed", "ridge-free"}
+    for v in c.values():
+        found, lines, conf = v["plain"]
+        assert 0 <= found <= 5 and 0 <= conf <= lines
+    r = ex.roc_trial(np.random.default_rng(4), 5, 3.0)
+    assert 0 <= r["plain"][0] <= 1 and set(r) == {"plain", "thresholded"}
+    with pytest.raises(TypeError, match="rules"):
+        ex.rule_counts(np.random.default_rng(4), [("printed", {})])
+
+
+def test_accuracy_sweep_rows_raw_and_within_counts():
+    import pandas as pd
+
+    stops = ex.STOPS[:2]
+    rows, raw = ex.accuracy_sweep([10.0], [0.25], stops, n_targets=3)
+    assert [r["stop"] for r in rows] == ["75 % rule", "all points"]
+    assert set(raw) == {("75 % rule", 10.0, 0.25), ("all points", 10.0, 0.25)}
+    assert rows[0]["predr_x"] > rows[0]["pred_x"]  # rounding adds variance
+    table = pd.DataFrame(rows)
+    w = ex.within_counts(raw, table, "75 % rule", False, False)
+    assert set(w) == {"x", "y", "vx", "vy"} and all(v in (0, 1) for v in w.values())
+    # a huge prediction: everything within
+    big = table.assign(pred_x=1e9, pred_y=1e9, pred_vx=1e9, pred_vy=1e9)
+    assert ex.within_counts(raw, big, "all points", False, False) == {"x": 1, "y": 1, "vx": 1, "vy": 1}
+    with pytest.raises(ValueError, match="stop_name"):
+        ex.within_counts(raw, table, "no such rule", False, False)
+    with pytest.raises(ValueError, match="speeds"):
+        ex.accuracy_sweep([0.0], [0.25])
