@@ -8,11 +8,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from projtrack.hough import (
-    PULSE_ZERO_VALUE, TrackInitiator, accuracy_experiment, detect_peaks, estimate_track, evaluate_initiation,
-    find_peaks, hough_axes, line_through, window_neighbours, hough_transform, hough_transform_image, local_average, match_lines,
+    PULSE_ZERO_VALUE, TrackInitiator, detect_peaks, estimate_track, find_peaks, hough_axes,
+    line_through, window_neighbours, hough_transform, hough_transform_image, local_average,
     project_and_correlate, pulse_correlation, rotate_integrate_hough, strip_projection,
     thresholded_hough_transform, track_covariance,
 )
+from projtrack.experiments.hough import accuracy_experiment, evaluate_initiation, match_lines
 from projtrack.scenes.boost import frame_times, in_view_launches, render_frames
 
 SHAPE = (256, 256)

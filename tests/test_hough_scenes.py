@@ -106,9 +106,9 @@ def test_bad_inputs():
         straight_targets(0, 5.0, rng=rng)
     with pytest.raises(RuntimeError):
         in_view_launches(rng, 3, frame_times(21, 0.25), max_tries=2, site_y_range=(-500, -400))
-    with pytest.raises(ValueError, match="non-negative int"):
+    with pytest.raises(ValueError, match="n must be an int >= 0"):
         in_view_launches(rng, -1, frame_times(21, 0.25))
-    with pytest.raises(ValueError, match="non-negative int"):
+    with pytest.raises(ValueError, match="n must be an int >= 0"):
         in_view_launches(rng, 2.5, frame_times(21, 0.25))
     with pytest.raises(TypeError, match="Generator"):
         in_view_launches(0, 2, frame_times(21, 0.25))

@@ -9,8 +9,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from projtrack.hough import (TrackInitiator, accuracy_experiment, detect_peaks, estimate_track, hough_transform,
-                             local_average, project_and_correlate)
+from projtrack.hough import (
+    TrackInitiator, detect_peaks, estimate_track, hough_transform, local_average,
+    project_and_correlate,
+)
+from projtrack.experiments.hough import accuracy_experiment
 
 
 def _ideal_line_plane(bias: float = 0.0):

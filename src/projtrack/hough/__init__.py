@@ -36,7 +36,8 @@ Modules
 
 Scoring against ground truth (:func:`match_lines`, :func:`evaluate_initiation`) and the
 Sec. VI accuracy experiment (:func:`accuracy_experiment`) live in
-:mod:`projtrack.experiments.hough`; the names are still reachable here for old imports.
+:mod:`projtrack.experiments.hough` (the experiment layer; this package imports neither it
+nor the scenes).
 
 Conventions
 -----------
@@ -55,8 +56,6 @@ along the line, oriented in the direction of motion.
 """
 
 from __future__ import annotations
-
-import importlib
 
 from projtrack.hough.estimate import (PULSE_ZERO_VALUE, ProjectionResult, TrackEstimate, estimate_track,
                                       project_and_correlate, pulse_correlation, strip_projection,
@@ -85,26 +84,6 @@ __all__ = [
     "estimate_track",
     "TrackInitiator",
     "PULSE_ZERO_VALUE",
-    "match_lines",
-    "evaluate_initiation",
-    "accuracy_experiment",
     "line_through",
     "window_neighbours",
 ]
-
-#: Names that moved to the experiment layer, still reachable as ``projtrack.hough.<name>``.
-_MOVED = {"match_lines": "projtrack.experiments.hough",
-          "evaluate_initiation": "projtrack.experiments.hough",
-          "accuracy_experiment": "projtrack.experiments.hough"}
-
-
-def __getattr__(name: str) -> object:
-    # Loaded on first use only, so that importing the algorithms never imports the
-    # experiment layer (nor, through it, the scenes).
-    if name in _MOVED:
-        return getattr(importlib.import_module(_MOVED[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_MOVED))

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from projtrack._validation import as_probability, as_real, as_rng, as_shape2
+from projtrack._validation import as_count, as_probability, as_real, as_rng, as_shape2
 
 __all__ = [
     "BoostTrajectory",
@@ -90,17 +90,9 @@ class BoostTrajectory:
 
 def frame_times(n_frames: int, frame_time: float = 0.25, start: float = 0.0) -> np.ndarray:
     """``start + k T`` for ``k = 0 .. n_frames - 1``."""
-    _check_count(n_frames, "n_frames", 1)
+    as_count(n_frames, "n_frames", minimum=1)
     frame_time = as_real(frame_time, "frame_time", 0, low_open=True)
     return start + frame_time * np.arange(n_frames)
-
-
-def _check_count(n: object, name: str, minimum: int) -> int:
-    # A count that is not an int is a wrong value here (ValueError), as it always was.
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < minimum:
-        what = "non-negative" if minimum == 0 else "positive"
-        raise ValueError(f"{name} must be a {what} int, got {n!r}")
-    return int(n)
 
 
 def _check_range(r: object, name: str, positive: bool = False) -> tuple[float, float]:
@@ -136,7 +128,7 @@ def random_launches(rng: np.random.Generator, n: int, *, shape: tuple[int, int] 
         Initial vertical speed, pixels per second.
     """
     as_rng(rng)
-    _check_count(n, "n", 0)
+    as_count(n, "n", minimum=0)
     _, w = as_shape2(shape)
     t_lo, t_hi = _check_range(launch_time_range, "launch_time_range")
     y_lo, y_hi = _check_range(site_y_range, "site_y_range")
@@ -182,8 +174,8 @@ def in_view_launches(rng: np.random.Generator, n: int, times: object, *,
         If ``max_tries`` draws do not give ``n`` such launches.
     """
     as_rng(rng)
-    _check_count(n, "n", 0)
-    _check_count(max_tries, "max_tries", 1)
+    as_count(n, "n", minimum=0)
+    as_count(max_tries, "max_tries", minimum=1)
     shape = as_shape2(shape)
     t = np.asarray(times, dtype=float)
     if t.ndim != 1 or t.size == 0 or not np.all(np.isfinite(t)):
@@ -240,7 +232,7 @@ def straight_targets(n: int, speed: float, *, shape: tuple[int, int] = (256, 256
     direction of motion ``theta - 90`` runs from +x (0 degrees) to +y (90 degrees).
     """
     as_rng(rng)
-    _check_count(n, "n", 1)
+    as_count(n, "n", minimum=1)
     speed = as_real(speed, "speed", 0, low_open=True)
     h, w = as_shape2(shape)
     lo, hi = _check_range(theta_range_deg, "theta_range_deg")
@@ -307,7 +299,7 @@ def render_frames(trajectories: Sequence[BoostTrajectory], times: object, rng: n
         raise ValueError("times must be a non-empty 1-D array of finite times")
     p_detect = as_probability(p_detect, "p_detect")
     jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
-    n_noise = _check_count(n_noise, "n_noise", 0)
+    n_noise = as_count(n_noise, "n_noise", minimum=0)
     n_t = len(trajectories)
     truth = (np.stack([tr.position(t) for tr in trajectories], axis=1) if n_t
              else np.zeros((t.size, 0, 2)))
