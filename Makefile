@@ -24,7 +24,7 @@ export MKL_NUM_THREADS := 1
 
 help:
 	@echo "make book     create .venv from environment.lock, execute every notebook, build the HTML book"
-	@echo "make test     unit + property tests, nbval over every notebook (under two BLAS kernels),"
+	@echo "make test     import layers, unit + property tests, nbval over every notebook (under two BLAS kernels),"
 	@echo "              figure regression, strict book build, the built book checked in headless Chromium"
 	@echo "make figures  execute every notebook in place (refreshes stored outputs and figures/)"
 	@echo "make crosscheck  nbval under every OpenBLAS kernel this CPU can run, each in its own process"
@@ -58,6 +58,8 @@ book: figures
 	@$(MAKE) --no-print-directory html
 
 unit: $(STAMP)
+	@echo "==> the package's import layers (lint-imports, contracts in pyproject.toml)"
+	$(VENV)/bin/lint-imports --no-cache
 	@echo "==> unit and property tests"
 	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py \
 		--ignore=tests/browser

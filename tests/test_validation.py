@@ -108,3 +108,25 @@ def test_as_square():
         V.as_square(np.eye(3), "S", 2)
     with pytest.raises(ValueError, match="square"):
         V.as_square(np.zeros((2, 3)), "S")
+
+
+def test_as_count_reports_every_bad_value_as_value_error():
+    assert V.as_count(3, "n") == 3 and type(V.as_count(np.int64(3), "n")) is int
+    assert V.as_count(0, "n", minimum=0) == 0
+    for bad in (0, -1, 2.0, 1.5, True, "3", None):
+        with pytest.raises(ValueError, match=r"n_steps must be an int >= 1"):
+            V.as_count(bad, "n_steps")
+    with pytest.raises(ValueError, match=">= 2, got 1"):
+        V.as_count(1, "n", minimum=2)
+
+
+def test_only_value_errors_turns_a_wrong_kind_into_value_error():
+    assert V.only_value_errors(V.as_real, 2, "speed", 0, low_open=True) == 2.0
+    assert V.only_value_errors(V.as_int, 3, "n", minimum=1) == 3
+    with pytest.raises(ValueError, match="speed must be a real number, got str"):
+        V.only_value_errors(V.as_real, "2", "speed", 0, low_open=True)
+    for bad in ("3", True, 2.5, None):
+        with pytest.raises(ValueError, match="n must be an int"):
+            V.only_value_errors(V.as_int, bad, "n", minimum=1)
+    with pytest.raises(ValueError, match="n must be an int >= 1, got 0"):
+        V.only_value_errors(V.as_int, 0, "n", minimum=1)

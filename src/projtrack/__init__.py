@@ -12,12 +12,18 @@ A shared package for a reproducible book of three documents:
   neural net (:mod:`projtrack.neuralnet`) and an adaptive KL novelty filter
   (:mod:`projtrack.novelty`).
 
-Shared helpers: :mod:`projtrack.figures` (figure style and saving),
-:mod:`projtrack.scorecard` (the reproduction scorecard), :mod:`projtrack.inventory`
-(the project's copy of the list of items to reproduce) and
-:mod:`projtrack.montecarlo` (reproducible parallel Monte Carlo).
+The package has three layers, each importing only the ones below it (checked by
+``lint-imports``): the studies the notebooks run, in :mod:`projtrack.experiments`; the
+synthetic stand-ins for unpublished data, in :mod:`projtrack.scenes`; and the algorithms,
+one topic package each (above), which import neither of the others, nor matplotlib or
+pandas. Beside the experiments are the book's helpers, :mod:`projtrack.figures` (figure
+style and saving), :mod:`projtrack.scorecard` (the reproduction scorecard) and
+:mod:`projtrack.inventory` (the project's copy of the list of items to reproduce); beneath
+everything, :mod:`projtrack._validation` (the shared argument checks),
+:mod:`projtrack.montecarlo` (reproducible parallel Monte Carlo) and :mod:`projtrack.stable`
+(printing numbers that do not depend on the last bits).
 
-Topic modules are imported on demand (``import projtrack.jpda``) so that each is
+Topic packages are imported on demand (``import projtrack.jpda``) so that each is
 importable on its own.
 """
 

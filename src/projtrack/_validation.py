@@ -23,6 +23,8 @@ import numpy as np
 
 __all__ = [
     "as_int",
+    "as_count",
+    "only_value_errors",
     "as_real",
     "as_probability",
     "as_probabilities",
@@ -53,6 +55,31 @@ def as_int(value: object, name: str, minimum: int | None = None, maximum: int | 
     if maximum is not None and v > maximum:
         raise ValueError(f"{name} must be an int <= {maximum}, got {v}")
     return v
+
+
+def as_count(value: object, name: str, minimum: int = 1) -> int:
+    """A count: an int >= ``minimum``, with ValueError for *any* bad value.
+
+    For sizes (numbers of steps, trials, frames, points) whose documented error is a
+    ValueError whatever is wrong, a float or a bool included; elsewhere use :func:`as_int`,
+    which reports a wrong kind as TypeError.
+    """
+    if not _is_int(value) or int(value) < minimum:  # type: ignore[call-overload]
+        raise ValueError(f"{name} must be an int >= {minimum}, got {value!r}")
+    return int(value)  # type: ignore[call-overload]
+
+
+def only_value_errors(check: Callable[..., Any], value: object, name: str, *args: Any, **kwargs: Any) -> Any:
+    """``check(value, name, *args, **kwargs)`` with a wrong kind reported as ValueError too.
+
+    For arguments whose documented error is a ValueError whatever is wrong (a string for a
+    number included), e.g. ``only_value_errors(as_real, speed, "speed", 0, low_open=True)``.
+    The message is the check's own.
+    """
+    try:
+        return check(value, name, *args, **kwargs)
+    except TypeError as exc:
+        raise ValueError(str(exc)) from None
 
 
 def as_real(
@@ -216,53 +243,3 @@ def as_square(x: object, name: str, n: int | None = None, *, finite: bool = True
         want = f"{n} x {n}" if n is not None else "square"
         raise ValueError(f"{name} must be a {want} matrix, got shape {a.shape}")
     return a
-
-
-# ------------------------------------------------------------------------------------------
-# Checks added for one topic's move live below its marker, so that moves made side by side
-# do not edit the same lines. Keep each one general; a check only one module needs stays there.
-# ------------------------------------------------------------------------------------------
-
-# --- ellipsoids
-
-
-# --- dma
-
-def as_count(value: object, name: str, minimum: int = 1) -> int:
-    """A count: an int >= ``minimum``, with ValueError for *any* bad value.
-
-    For sizes (numbers of steps, trials, frames, points) whose documented error is a
-    ValueError whatever is wrong, a float or a bool included; elsewhere use :func:`as_int`,
-    which reports a wrong kind as TypeError.
-    """
-    if not _is_int(value) or int(value) < minimum:  # type: ignore[call-overload]
-        raise ValueError(f"{name} must be an int >= {minimum}, got {value!r}")
-    return int(value)  # type: ignore[call-overload]
-
-
-def only_value_errors(check: Callable[..., Any], value: object, name: str, *args: Any, **kwargs: Any) -> Any:
-    """``check(value, name, *args, **kwargs)`` with a wrong kind reported as ValueError too.
-
-    For arguments whose documented error is a ValueError whatever is wrong (a string for a
-    number included), e.g. ``only_value_errors(as_real, speed, "speed", 0, low_open=True)``.
-    The message is the check's own.
-    """
-    try:
-        return check(value, name, *args, **kwargs)
-    except TypeError as exc:
-        raise ValueError(str(exc)) from None
-
-
-# --- correlators
-
-
-# --- hough
-
-
-# --- jpda
-
-
-# --- neuralnet
-
-
-# --- novelty
