@@ -89,15 +89,21 @@ def _n_from_dim(N: int) -> int:
     return n
 
 
-def _check_Cs(Cs: object, n: int | None = None, name: str = "Cs") -> list[np.ndarray]:
-    if isinstance(Cs, np.ndarray) and Cs.ndim == 2:
-        raise TypeError(f"{name} must be a sequence of n x m_i matrices (wrap a single C in a list)")
+def _matrix_list(items: object, name: str, what: str, single: str, empty: str) -> list:
+    """``items`` as a non-empty list; one 2-D array is refused (it would iterate over rows)."""
+    if isinstance(items, np.ndarray) and items.ndim == 2:
+        raise TypeError(f"{name} must be a sequence of {what} matrices (wrap a single {single} in a list)")
     try:
-        items = list(Cs)  # type: ignore[arg-type]
+        out = list(items)  # type: ignore[call-overload]
     except TypeError:
-        raise TypeError(f"{name} must be a sequence of n x m_i matrices, got {type(Cs).__name__}") from None
-    if not items:
-        raise ValueError(f"{name} must contain at least one projection matrix")
+        raise TypeError(f"{name} must be a sequence of {what} matrices, got {type(items).__name__}") from None
+    if not out:
+        raise ValueError(f"{name} must contain at least one {empty}")
+    return out
+
+
+def _check_Cs(Cs: object, n: int | None = None, name: str = "Cs") -> list[np.ndarray]:
+    items = _matrix_list(Cs, name, "n x m_i", "C", "projection matrix")
     out = []
     for k, C in enumerate(items):
         Cm = check_orthonormal(C, f"{name}[{k}]", n)
@@ -108,14 +114,7 @@ def _check_Cs(Cs: object, n: int | None = None, name: str = "Cs") -> list[np.nda
 
 
 def _check_Ys(Ys: object, Cs: list[np.ndarray], name: str = "Ys") -> list[np.ndarray]:
-    if isinstance(Ys, np.ndarray) and Ys.ndim == 2:
-        raise TypeError(f"{name} must be a sequence of m_i x m_i matrices (wrap a single Y in a list)")
-    try:
-        items = list(Ys)  # type: ignore[arg-type]
-    except TypeError:
-        raise TypeError(f"{name} must be a sequence of m_i x m_i matrices, got {type(Ys).__name__}") from None
-    if not items:
-        raise ValueError(f"{name} must contain at least one observation")
+    items = _matrix_list(Ys, name, "m_i x m_i", "Y", "observation")
     if len(items) != len(Cs):
         raise ValueError(f"{name} and Cs must have the same length, got {len(items)} and {len(Cs)}")
     out = []
