@@ -23,8 +23,8 @@ D. P. Casasent and J.-H. Song, "Optical projection correlations", Appl. Opt. 27,
 
 Every name is importable from the package itself (``projtrack.correlators.project``).
 
-Modules
--------
+.. rubric:: Modules
+
 * ``projtrack.correlators.preprocess``: zero-mean and unit-energy images (Sec. III.B-C).
 * ``projtrack.correlators.projections``: projections at any angle, their binning and
   coordinates, and the central slice theorem (Eqs. (1)-(2)).

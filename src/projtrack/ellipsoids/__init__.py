@@ -35,7 +35,7 @@ Modules (each imported here, so ``projtrack.ellipsoids.<name>`` works for every 
 * :mod:`~projtrack.ellipsoids.operators` - Sec. 3-4: ``svec``/``smat``, the symmetric basis, ``C~`` and the projection;
 * :mod:`~projtrack.ellipsoids.geometry` - Sec. 2: axes, support function, volume, boundary points, PSD cone;
 * :mod:`~projtrack.ellipsoids.intervals` - Sec. 5.2: matrix intervals ``lower <= X <= upper``;
-* :mod:`~projtrack.ellipsoids.lsi` - least squares with linear inequality constraints (Lawson & Hanson);
+* :mod:`~projtrack.ellipsoids.lsi_solver` - least squares with linear inequality constraints (Lawson & Hanson);
 * :mod:`~projtrack.ellipsoids.halfspace` - Algorithm 1 of the Appendix (successive rank-one halfspaces);
 * :mod:`~projtrack.ellipsoids.sdp` - the interval-constrained problem as a semidefinite program (cvxpy);
 * :mod:`~projtrack.ellipsoids.reconstruction` - Sec. 5: reconstruction, condition (19), ellipse fitting;
@@ -52,7 +52,7 @@ from .geometry import axes, boundary_points, conic_points, is_psd, nearest_psd, 
 from .halfspace import HalfspaceResult, halfspace_reconstruct
 from .intervals import in_interval, interval_boundary_point, interval_bounds
 from .kalman import KalmanResult, kalman_estimate
-from .lsi import lsi
+from .lsi_solver import lsi
 from .operators import (congruence_operator, ctilde, kron_operator, project, smat, stacked_operator, svec,
                         svec_basis_matrix, symmetric_basis)
 from .reconstruction import RankDeficientWarning, condition19, fit_centered_ellipse, reconstruct

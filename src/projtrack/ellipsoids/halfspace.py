@@ -11,7 +11,7 @@ from projtrack._validation import as_array
 
 from .checks import _as_positive, _as_size, _check_Cs, _check_Ys, _n_from_dim, _rank
 from .intervals import interval_bounds
-from .lsi import _LSI
+from .lsi_solver import _LSI
 from .operators import congruence_operator, smat, svec
 
 __all__ = ["halfspace_reconstruct", "HalfspaceResult"]

@@ -23,8 +23,8 @@ track initiator for multitarget tracking", Appl. Opt. 27, 4546, 1988):
 * the covariance approximations of Eqs. (8), (9), (12), (13) (:func:`track_covariance`);
 * a :class:`TrackInitiator` chaining all of this over a stack of frames.
 
-Modules
--------
+.. rubric:: Modules
+
 * :mod:`~projtrack.hough.transform`: the HT by point voting, of a binary image, thresholded
   per frame, and by rotate-and-integrate; the plane's axes; the line through points.
 * :mod:`~projtrack.hough.peaks`: the local average and the ratio/bridge peak detector
@@ -32,7 +32,7 @@ Modules
 * :mod:`~projtrack.hough.estimate`: strip projection, pulse correlation, the ``dx'``
   procedure, the covariances and the track estimate of Sec. III.
 * :mod:`~projtrack.hough.initiator`: :class:`TrackInitiator`, the whole chain over a stack.
-* :mod:`~projtrack.hough._checks`: argument checks only this package needs.
+* ``projtrack.hough._checks``: argument checks only this package needs.
 
 Scoring against ground truth (:func:`match_lines`, :func:`evaluate_initiation`) and the
 Sec. VI accuracy experiment (:func:`accuracy_experiment`) live in

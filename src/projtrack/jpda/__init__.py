@@ -29,8 +29,8 @@ the standard JPDA weights (Fortmann, Bar-Shalom & Scheffe 1983, in the form with
 associated with target ``t`` and ``beta[0, t]`` that target ``t`` was not detected,
 eq. (2); every column sums to 1.
 
-Modules
--------
+.. rubric:: Modules
+
 * :mod:`~projtrack.jpda.validation`: chi-square gates, validation matrix and MVM (II.A, III.A).
 * :mod:`~projtrack.jpda.feasible`: feasible joint events, eq. (1), feasibility matrices (II.B).
 * :mod:`~projtrack.jpda.enumeration`: beta by enumerating the feasible events (II.C).

@@ -45,7 +45,7 @@ Modules (everything public is re-exported here):
 
 * :mod:`~projtrack.neuralnet.coefficients`: the weights ``A1``-``A4`` of eq. (8) and the paper's values;
 * :mod:`~projtrack.neuralnet.distances`: zero-vector padding of measurements and the distance tensor of eq. (7);
-* :mod:`~projtrack.neuralnet.energy`: the energy of eq. (8) and its derivative eq. (9);
+* :mod:`~projtrack.neuralnet.cubic_energy`: the energy of eq. (8) and its derivative eq. (9);
 * :mod:`~projtrack.neuralnet.dynamics`: random starts and the serial or parallel binary updates of eq. (4);
 * :mod:`~projtrack.neuralnet.assignments`: assignments read from states, checked against the truth and costed;
 * :mod:`~projtrack.neuralnet.fixed_points`: which one-to-one assignments are fixed points of the update;
@@ -61,7 +61,7 @@ from .assignments import assignment_cost, assignment_to_states, is_correct_assig
 from .coefficients import PAPER_COEFFICIENTS, PAPER_OFFSET, Coefficients
 from .distances import distance_tensor, pad_measurements
 from .dynamics import NetResult, initial_states, run_net, update_inputs
-from .energy import energy, energy_gradient, energy_gradient_loops
+from .cubic_energy import energy, energy_gradient, energy_gradient_loops
 from .fixed_points import assignment_max_sums, fixed_point_limit, is_fixed_point, neuron_distance_sums
 from .optics import (connection_matrices, full_tensor, gradient_linear_algebra, reduced_tensor,
                      reduced_tensor_product, slm_sizes, tensor_matrix_product)

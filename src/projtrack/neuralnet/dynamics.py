@@ -11,7 +11,7 @@ from projtrack._validation import as_int, as_rng
 
 from ._checks import _check_D, _check_states
 from .coefficients import PAPER_OFFSET, Coefficients, _as_coefficients
-from .energy import energy_gradient
+from .cubic_energy import energy_gradient
 
 __all__ = ["NetResult", "initial_states", "run_net", "update_inputs"]
 

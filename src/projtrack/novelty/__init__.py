@@ -15,7 +15,7 @@ Modules:
 - :mod:`~projtrack.novelty.table1`: :data:`TABLE1_STEPS` and :data:`TABLE1_FLOW`, Table 1 as data (Fig. 1 is drawn from it).
 - ``_checks`` and ``_linalg`` (private): the package's frame and threshold checks, and the sign and ordering conventions of eigenimages.
 
-Fig. 1 itself is drawn by :func:`projtrack.experiments.novelty.plots.plot_block_diagram`.
+Fig. 1 itself is drawn by :func:`projtrack.experiments.novelty.plot_block_diagram`.
 
 Implemented here:
 

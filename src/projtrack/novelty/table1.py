@@ -1,7 +1,7 @@
 """Table 1 of Vermeulen & Casasent (the adaptive recursive SVD) as data: its steps and flow.
 
 Fig. 1, the block diagram, is drawn from these two tuples (by
-:func:`projtrack.experiments.novelty.plots.plot_block_diagram`).
+:func:`projtrack.experiments.novelty.plot_block_diagram`).
 """
 from __future__ import annotations
 

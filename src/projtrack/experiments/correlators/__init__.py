@@ -1,7 +1,7 @@
 """Experiments of the projection-correlation chapter (Casasent & Song 1988): the studies its notebooks run.
 
-Modules
--------
+.. rubric:: Modules
+
 * ``projtrack.experiments.correlators.theorems``: numerical checks of the central slice
   theorem (Eq. (2)) and of Eq. (3).
 * ``projtrack.experiments.correlators.scoring``: printed values against our draws, and

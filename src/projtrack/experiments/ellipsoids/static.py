@@ -63,8 +63,7 @@ def shown_static_draw(variance: float, rng: np.random.Generator, *, non_psd_only
                       n_draws: int = 1000) -> dict:
     """Draw ``n_draws`` data sets of Sec. 7.1 and pick the one a figure shows.
 
-    The rule of the book: the draw with the (upper) median LS error (:func:`projtrack.scenes.
-    ellipses.median_draw`), among all draws or, with ``non_psd_only``, among those whose LS
+    The rule of the book: the draw with the (upper) median LS error (:func:`projtrack.scenes.ellipses.median_draw`), among all draws or, with ``non_psd_only``, among those whose LS
     estimate is not PSD (Fig. 9). The draws run through :func:`projtrack.montecarlo.run`.
 
     Returns

@@ -1,7 +1,7 @@
 """The plain against the thresholded HT (Figs. 5-6): five launches among many false pixels.
 
 :func:`noisy_scene` draws a scene over the 21 frames of
-:data:`~projtrack.experiments.hough.salvo.SALVO_TIMES`, :func:`plain_and_thresholded`
+``SALVO_TIMES``, :func:`plain_and_thresholded`
 runs both initiators on it, :func:`rule_counts` and :func:`roc_trial` are the Monte Carlo
 trials of the chapter's tables (generator first, for ``projtrack.montecarlo.run``).
 """

@@ -9,10 +9,10 @@ __all__ = ["plot_block_diagram", "plot_frame_panels"]
 
 
 def plot_block_diagram(ax=None):
-    """Draw Fig. 1 (block diagram of the adaptive recursive SVD) from :data:`~projtrack.novelty.TABLE1_STEPS`.
+    """Draw Fig. 1 (block diagram of the adaptive recursive SVD) from ``projtrack.novelty.TABLE1_STEPS``.
 
     Steps are stacked top to bottom; decision steps (those with conditional exits in
-    :data:`~projtrack.novelty.TABLE1_FLOW`) are drawn as diamonds, loops as arrows on the sides.
+    ``projtrack.novelty.TABLE1_FLOW``) are drawn as diamonds, loops as arrows on the sides.
 
     Returns
     -------

@@ -107,7 +107,7 @@ def fig2_pattern(frames: Any, pixel_threshold: float = PIXEL_THRESHOLD
         :func:`~projtrack.novelty.process_sequence` with the Fig. 2 settings.
     row : dict
         ``n_2``, ``n_3``, ``n_4``, ``F_4,2``, novel frames among 2-7, ``n_8``, ``F_8,2``, the
-        update number of frame 8 and :func:`~projtrack.experiments.novelty.street.entry_marked`
+        update number of frame 8 and :func:`~projtrack.experiments.novelty.entry_marked`
         (numbers as strings, as printed).
     """
     recs = process_sequence(frames, *FIG2_SETTINGS, pixel_threshold=pixel_threshold)
