@@ -93,15 +93,28 @@ def _forward_step(Fi, Fo, w, u, i, pc, L):  # pragma: no cover - compiled
                 for base in range(0, B, 2 * st):
                     for j in range(st):
                         fo[base + st + j] += wk * fi[base + j]
+            # the high bits: the blocks without one of them, two source blocks per pass
+            pend = -1
             for b in range(H):
-                if (h >> b) & 1:
-                    wk = w[L + b]
-                    if wk == 0.0:
+                if (h >> b) & 1 and w[L + b] != 0.0:
+                    if pend < 0:
+                        pend = b
                         continue
-                    s = (h ^ (1 << b)) * B
-                    src = Fi[s:s + B]
+                    sa = (h ^ (1 << pend)) * B
+                    sb = (h ^ (1 << b)) * B
+                    wa = w[L + pend]
+                    wb = w[L + b]
+                    src_a = Fi[sa:sa + B]
+                    src_b = Fi[sb:sb + B]
                     for l in range(B):
-                        fo[l] += wk * src[l]
+                        fo[l] += wa * src_a[l] + wb * src_b[l]
+                    pend = -1
+            if pend >= 0:
+                sa = (h ^ (1 << pend)) * B
+                wa = w[L + pend]
+                src_a = Fi[sa:sa + B]
+                for l in range(B):
+                    fo[l] += wa * src_a[l]
 
 
 def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part):  # pragma: no cover - compiled
@@ -155,19 +168,41 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part):  # pragma: no cover - comp
                         go[base + j] += wk * g
                         acc += fi[base + j] * g
                 part[ch, k] += acc
+            # the high bits: the blocks with one more of them, two source blocks per pass
+            pend = -1
             for b in range(H):
-                if not (h >> b) & 1:
-                    wk = w[L + b]
-                    if wk == 0.0:
+                if not (h >> b) & 1 and w[L + b] != 0.0:
+                    if pend < 0:
+                        pend = b
                         continue
-                    s = (h | (1 << b)) * B
-                    src = Gn[s:s + B]
-                    acc = 0.0
+                    sa = (h | (1 << pend)) * B
+                    sb = (h | (1 << b)) * B
+                    wa = w[L + pend]
+                    wb = w[L + b]
+                    src_a = Gn[sa:sa + B]
+                    src_b = Gn[sb:sb + B]
+                    acc_a = 0.0
+                    acc_b = 0.0
                     for l in range(B):
-                        g = src[l]
-                        go[l] += wk * g
-                        acc += fi[l] * g
-                    part[ch, L + b] += acc
+                        ga = src_a[l]
+                        gb = src_b[l]
+                        f = fi[l]
+                        go[l] += wa * ga + wb * gb
+                        acc_a += f * ga
+                        acc_b += f * gb
+                    part[ch, L + pend] += acc_a
+                    part[ch, L + b] += acc_b
+                    pend = -1
+            if pend >= 0:
+                sa = (h | (1 << pend)) * B
+                wa = w[L + pend]
+                src_a = Gn[sa:sa + B]
+                acc_a = 0.0
+                for l in range(B):
+                    ga = src_a[l]
+                    go[l] += wa * ga
+                    acc_a += fi[l] * ga
+                part[ch, L + pend] += acc_a
 
 
 def _final_sums(F, V, L, part):  # pragma: no cover - compiled
@@ -215,12 +250,41 @@ def warm_up() -> None:
     fb_sweep(W, np.ones(2), np.ones(3), low_bits=1)
 
 
-def _v_message(v: np.ndarray) -> np.ndarray:
-    """``V[S] = prod_{k not in S} v_k`` for every subset ``S`` of the slots."""
-    V = np.ones(1)
-    for vk in v:  # bit k is the k-th doubling: V = [V * v_k (k absent), V (k present)]
-        V = np.concatenate([V * vk, V])
+def _v_message(v: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """``V[S] = prod_{k not in S} v_k`` for every subset ``S`` of the slots, written into ``V``."""
+    V[0] = 1.0
+    size = 1
+    for vk in v:  # bit k doubles the table: [V * v_k (k absent), V (k present)]
+        V[size:2 * size] = V[:size]
+        V[:size] *= vk
+        size *= 2
     return V
+
+
+# Freshly allocated messages cost page faults (several times the arithmetic of a forward
+# step at 2^20 states): the messages of the last size swept are kept for the next call, up
+# to _POOL_BYTES. Taking and returning arrays are single list operations (thread-safe).
+_POOL_BYTES = 1 << 28
+_pool: dict[int, list[np.ndarray]] = {}
+
+
+def _take(N: int) -> np.ndarray:
+    try:
+        return _pool.get(N, []).pop()
+    except IndexError:
+        return np.empty(N)
+
+
+def _give_back(arrays: list[np.ndarray], N: int) -> None:
+    keep = _POOL_BYTES // (8 * N)
+    if N not in _pool:
+        _pool.clear()
+        _pool[N] = []
+    free = _pool.get(N, [])
+    for a in arrays:
+        if len(free) >= keep:
+            break
+        free.append(a)
 
 
 def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
@@ -258,36 +322,45 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
     # forward sweep: F_a kept at the checkpoints a = 0, seg, 2 seg, ... (every a when
     # store_all) and at a = n_it; the messages in between go through two scratch buffers
+    owned: list[np.ndarray] = []
+
+    def new() -> np.ndarray:
+        arr = _take(N)
+        owned.append(arr)
+        return arr
+
     checkpoints: dict[int, np.ndarray] = {}
-    F = np.zeros(N)
+    F = new()
+    F[:] = 0.0
     F[0] = 1.0
     checkpoints[0] = F
-    scratch = [] if store_all else [np.empty(N), np.empty(N)]
+    scratch = [] if store_all else [new(), new()]
     for i in range(n_it):
         keep = (i + 1) % seg == 0 or i + 1 == n_it
-        out = np.empty(N) if keep else scratch[i % 2]
+        out = new() if keep else scratch[i % 2]
         fwd(F, out, W[i], u[i], i, pc, L)
         if keep:
             checkpoints[i + 1] = out
         F = out
-    V = _v_message(v)
+    V = _v_message(v, new())
     part = np.empty((_CHUNKS, n + 1))
     fin(F, V, L, part)
     sums = part.sum(axis=0)
     Z, un = float(sums[n]), sums[:n].copy()
     gW = np.zeros((n_it, n))
     gu = np.zeros(n_it)
-    del checkpoints[n_it], F, out
+    scratch.append(checkpoints.pop(n_it))  # F_n is no longer needed
+    del F, out
     # backward sweep, segment by segment from the last; a segment's forward messages are
-    # recomputed from its checkpoint (into the scratch buffers and a few new ones)
+    # recomputed from its checkpoint into free buffers
     starts = sorted(checkpoints)
-    G, Gn = V, np.empty(N)
+    G, Gn = V, (scratch.pop() if scratch else new())
     for j in range(len(starts) - 1, -1, -1):
         a = starts[j]
         b = starts[j + 1] if j + 1 < len(starts) else n_it
         msgs = [checkpoints.pop(a)]
         for i in range(a, b - 1):
-            nxt = scratch.pop() if scratch else np.empty(N)
+            nxt = scratch.pop() if scratch else new()
             fwd(msgs[-1], nxt, W[i], u[i], i, pc, L)
             msgs.append(nxt)
         for i in range(b - 1, a - 1, -1):
@@ -297,8 +370,9 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
             gW[i] = W[i] * sums[:n]
             gu[i] = u[i] * sums[n]
             G, Gn = Gn, G
-            if i > a:
-                scratch.append(Fi)
+            scratch.append(Fi)
+    del G, Gn, msgs, scratch
+    _give_back(owned, N)
     _count(ops, W, N)
     return Z, gW, gu, un
 
