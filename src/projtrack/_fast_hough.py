@@ -79,10 +79,10 @@ def _get_kernel():
     global _kernel
     if _kernel is None:
         @_numba.njit(cache=True, nogil=True)
-        def kernel(x, y, cx, cy, c, s, rho0, drho, pow2, weights, acc_t):  # pragma: no cover - compiled
-            # acc_t is the transposed plane (n_theta, n_rho): one angle's votes stay in cache;
-            # every cell still receives its votes in the order of the points
-            n_theta, n_rho = acc_t.shape
+        def kernel(x, y, cx, cy, c, s, rho0, drho, pow2, weights, acc):  # pragma: no cover - compiled
+            # angle by angle (the inner loops over the points vectorize); every cell still
+            # receives its votes in the order of the points
+            n_rho, n_theta = acc.shape
             n = x.shape[0]
             inv = 1.0 / drho
             dx = x - cx
@@ -100,14 +100,13 @@ def _get_kernel():
                     # an integer, adding 0.5 before the (inexact) scaling by 1e-9 keeps the
                     # floor exact (|Y| < 2^51 is checked by the caller)
                     kf[p] = np.floor((np.rint(q * 1e9) + 500000000.5) * 1e-9)
-                row = acc_t[t]
                 for p in range(n):
                     k = int(kf[p])
                     if k < 0:
                         k = 0
                     elif k > n_rho - 1:
                         k = n_rho - 1
-                    row[k] += weights[p] if weights.shape[0] else 1.0
+                    acc[k, t] += weights[p] if weights.shape[0] else 1.0
 
         _kernel = kernel
     return _kernel
@@ -128,9 +127,9 @@ def vote(pts: np.ndarray, cx: float, cy: float, rho0: float, n_rho: int,
     if not use_numba or _numba is None or pts.shape[0] == 0 or n_rho > 1_000_000:
         return vote_numpy(pts, cx, cy, rho0, n_rho, thetas_deg, drho, weights)
     c, s = _tables(thetas_deg)
-    acc_t = np.zeros((thetas_deg.size, n_rho))
+    acc = np.zeros((n_rho, thetas_deg.size))
     w = _NO_WEIGHTS if weights is None else np.ascontiguousarray(weights, dtype=float)
     m, e = np.frexp(float(drho))
     _get_kernel()(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), float(cx),
-                  float(cy), c, s, float(rho0), float(drho), bool(m == 0.5), w, acc_t)
-    return np.ascontiguousarray(acc_t.T)
+                  float(cy), c, s, float(rho0), float(drho), bool(m == 0.5), w, acc)
+    return acc
