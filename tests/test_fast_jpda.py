@@ -31,12 +31,13 @@ CASES = [(1, 1, None, None), (3, 1, None, None), (2, 2, None, None), (4, 3, 2, N
 
 
 @pytest.mark.parametrize("n_it,n,low_bits,store", CASES)
-@pytest.mark.parametrize("density", [1.0, 0.6])
-def test_sweep_matches_reference(n_it, n, low_bits, store, density):
+@pytest.mark.parametrize("density,parallel", [(1.0, False), (0.6, True)])
+def test_sweep_matches_reference(n_it, n, low_bits, store, density, parallel):
     rng = np.random.default_rng(100 * n_it + n)
     W, u, v = _problem(rng, n_it, n, density)
     ops_fast, ops_ref = jpda.OpCount(), jpda.OpCount()
-    got = _fast_jpda.fb_sweep(W, u, v, ops_fast, low_bits=low_bits, store_all_bytes=store)
+    got = _fast_jpda.fb_sweep(W, u, v, ops_fast, low_bits=low_bits, store_all_bytes=store,
+                              parallel=parallel)
     ref = jpda._fb_sweep_reference(W, u, v, ops_ref)
     for g, r in zip(got, ref):
         assert _rel(g, r) < 1e-12
@@ -49,6 +50,9 @@ def test_sweep_zero_rows_and_columns():
     W[2] = 0.0
     W[:, 4] = 0.0
     got = _fast_jpda.fb_sweep(W, u, v, low_bits=2, store_all_bytes=0)
+    again = _fast_jpda.fb_sweep(W, u, v, low_bits=2, store_all_bytes=0, parallel=True)
+    for g, a in zip(got, again):  # fixed chunks: the same sums with and without threads
+        np.testing.assert_array_equal(g, a)
     for g, r in zip(got, jpda._fb_sweep_reference(W, u, v)):
         assert _rel(g, r) < 1e-12
     assert np.all(got[1][2] == 0) and np.all(got[1][:, 4] == 0)

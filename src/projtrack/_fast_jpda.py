@@ -232,22 +232,30 @@ def _final_sums(F, V, L, part):  # pragma: no cover - compiled
                     part[ch, L + b] += tot
 
 
-_kernels: dict[str, Any] = {}
+_kernels: dict[tuple[str, bool], Any] = {}
+_PARALLEL_MIN_SLOTS = 18  # below 2^18 states a step is too short to share between threads
 
 
-def _kernel(name: str):
-    """The compiled kernel ``name`` (compiled on first use, cached on disk where possible)."""
-    if name not in _kernels:
+def _kernel(name: str, parallel: bool):
+    """The compiled kernel ``name`` (compiled on first use, cached on disk where possible).
+
+    ``parallel=False`` compiles ``prange`` as ``range``: no thread start-up or barrier per
+    step, which for small state spaces costs more than the step (OpenMP threads spin while
+    they wait, and on a busy machine a descheduled thread stalls every step).
+    """
+    key = (name, parallel)
+    if key not in _kernels:
         fn = {"forward": _forward_step, "backward": _backward_step, "final": _final_sums}[name]
-        _kernels[name] = _numba.njit(cache=True, parallel=True, nogil=True,
-                                     fastmath={"reassoc", "contract"})(fn)
-    return _kernels[name]
+        _kernels[key] = _numba.njit(cache=True, parallel=parallel, nogil=True,
+                                    fastmath={"reassoc", "contract"})(fn)
+    return _kernels[key]
 
 
 def warm_up() -> None:
     """Compile (or load from the cache) the kernels now, e.g. before timing them."""
     W = np.full((2, 3), 0.5)
-    fb_sweep(W, np.ones(2), np.ones(3), low_bits=1)
+    for par in (False, True):
+        fb_sweep(W, np.ones(2), np.ones(3), low_bits=1, parallel=par)
 
 
 def _v_message(v: np.ndarray, V: np.ndarray) -> np.ndarray:
@@ -289,14 +297,16 @@ def _give_back(arrays: list[np.ndarray], N: int) -> None:
 
 def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
              low_bits: int | None = None,
-             store_all_bytes: int | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+             store_all_bytes: int | None = None,
+             parallel: bool | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
     """``(Z, W * dZ/dW, u * dZ/du, unmatched)`` of the recursions above (needs numba).
 
     ``W`` is ``(n_items, n)`` (``n`` slots, ``2^n`` states), ``u`` ``(n_items,)``, ``v``
     ``(n,)``, all non-negative and already checked. ``ops`` (an object with
     ``add(n_add=, n_mul=)``) receives the operation count of the plain sweep (the same
     count as the numpy sweeps record). ``low_bits`` and ``store_all_bytes`` override the
-    block size and the memory limit for keeping every forward message (for tests).
+    block size and the memory limit for keeping every forward message (for tests);
+    ``parallel`` chooses the threaded kernels (default: from ``_PARALLEL_MIN_SLOTS`` slots).
     """
     if _numba is None:
         raise RuntimeError("projtrack._fast_jpda.fb_sweep needs numba")
@@ -308,7 +318,7 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     if n < 2:  # the kernels handle two bits at a time: pad with slots nobody can take
         Z, gW, gu, un = fb_sweep(np.hstack([W, np.zeros((n_it, 2 - n))]), u,
                                  np.concatenate([v, np.ones(2 - n)]), None, low_bits=2,
-                                 store_all_bytes=store_all_bytes)
+                                 store_all_bytes=store_all_bytes, parallel=parallel)
         _count(ops, W, N)
         return Z, gW[:, :n], gu, un[:n]
     L = min(n, max(2, _LOW_BITS if low_bits is None else int(low_bits)))
@@ -316,7 +326,8 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     pc = np.zeros(rows, dtype=np.int64)
     for b in range(n - L):
         pc += (np.arange(rows) >> b) & 1
-    fwd, bwd, fin = _kernel("forward"), _kernel("backward"), _kernel("final")
+    par = n >= _PARALLEL_MIN_SLOTS if parallel is None else bool(parallel)
+    fwd, bwd, fin = (_kernel(k, par) for k in ("forward", "backward", "final"))
     limit = _STORE_ALL_BYTES if store_all_bytes is None else int(store_all_bytes)
     store_all = (n_it + 1) * N * 8 <= limit
     seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
