@@ -8,7 +8,7 @@ import pytest
 from projtrack import _fast_hough
 from projtrack.hough import hough_axes, hough_transform, thresholded_hough_transform
 
-needs_numba = pytest.mark.skipif(_fast_hough._numba is None, reason="numba is not installed")
+needs_numba = pytest.mark.skipif(not _fast_hough._HAVE_NUMBA, reason="numba is not installed")
 
 
 def _vote_original(pts, cx, cy, rho0, n_rho, thetas_deg, drho, weights=None):
@@ -85,4 +85,4 @@ def test_numba_switch(monkeypatch):
     monkeypatch.setenv("PROJTRACK_NO_NUMBA", "1")
     assert not _fast_hough.numba_enabled()
     monkeypatch.delenv("PROJTRACK_NO_NUMBA")
-    assert _fast_hough.numba_enabled() == (_fast_hough._numba is not None)
+    assert _fast_hough.numba_enabled() == _fast_hough._HAVE_NUMBA

@@ -7,7 +7,7 @@ import pytest
 
 from projtrack import _fast_jpda, jpda
 
-pytestmark = pytest.mark.skipif(_fast_jpda._numba is None, reason="numba is not installed")
+pytestmark = pytest.mark.skipif(not _fast_jpda._HAVE_NUMBA, reason="numba is not installed")
 
 
 def _rel(a, b):
@@ -99,3 +99,14 @@ def test_numba_switch(monkeypatch):
     assert not _fast_jpda.numba_enabled()
     monkeypatch.delenv("PROJTRACK_NO_NUMBA")
     assert _fast_jpda.numba_enabled()
+
+
+def test_without_numba_the_numpy_sweep_runs(monkeypatch):
+    monkeypatch.setattr(_fast_jpda, "_HAVE_NUMBA", False)
+    assert not _fast_jpda.numba_enabled()
+    mvm = _mvm(np.random.default_rng(3), 9, 9)
+    with pytest.raises(RuntimeError):
+        _fast_jpda.fb_sweep(mvm[1:], np.ones(9), mvm[0])
+    want = jpda.beta_forward_backward(mvm)  # dispatches to the numpy sweep
+    monkeypatch.setattr(_fast_jpda, "_HAVE_NUMBA", True)
+    assert _rel(jpda.beta_forward_backward(mvm), want) < 1e-12

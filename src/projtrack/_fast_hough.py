@@ -18,22 +18,32 @@ The ``cos``/``sin`` tables are computed once per set of angles and cached.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 __all__ = ["vote", "vote_numpy", "numba_enabled"]
 
-try:  # numba is optional: the array version is used without it
-    import numba as _numba
-except ImportError:  # pragma: no cover - depends on the environment
-    _numba = None
+# numba is optional, and imported only when a kernel is first compiled (it takes a second)
+_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+_numba: Any = None
+
+
+def _import_numba() -> Any:
+    global _numba
+    if _numba is None:
+        import numba
+
+        _numba = numba
+    return _numba
 
 
 def numba_enabled() -> bool:
     """True when the compiled kernel is used: numba importable and ``PROJTRACK_NO_NUMBA != 1``."""
-    return _numba is not None and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
+    return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
 
 
 @lru_cache(maxsize=64)
@@ -78,7 +88,7 @@ def _get_kernel():
     """The compiled loop (compiled on first use; cached on disk where numba can write)."""
     global _kernel
     if _kernel is None:
-        @_numba.njit(cache=True, nogil=True)
+        @_import_numba().njit(cache=True, nogil=True)
         def kernel(x, y, cx, cy, c, s, rho0, drho, pow2, weights, acc):  # pragma: no cover - compiled
             # angle by angle (the inner loops over the points vectorize); every cell still
             # receives its votes in the order of the points
@@ -124,7 +134,7 @@ def vote(pts: np.ndarray, cx: float, cy: float, rho0: float, n_rho: int,
     """
     if use_numba is None:
         use_numba = numba_enabled()
-    if not use_numba or _numba is None or pts.shape[0] == 0 or n_rho > 1_000_000:
+    if not use_numba or not _HAVE_NUMBA or pts.shape[0] == 0 or n_rho > 1_000_000:
         return vote_numpy(pts, cx, cy, rho0, n_rho, thetas_deg, drho, weights)
     c, s = _tables(thetas_deg)
     acc = np.zeros((n_rho, thetas_deg.size))

@@ -39,6 +39,7 @@ it is used (numba importable and ``PROJTRACK_NO_NUMBA`` not ``1``).
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from math import ceil, sqrt
 from typing import Any
@@ -47,10 +48,18 @@ import numpy as np
 
 __all__ = ["fb_sweep", "numba_enabled"]
 
-try:  # numba is optional: callers fall back to their numpy sweep without it
-    import numba as _numba
-except ImportError:  # pragma: no cover - depends on the environment
-    _numba = None
+# numba is optional, and imported only when a kernel is first compiled (it takes a second)
+_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+_numba: Any = None
+
+
+def _import_numba() -> Any:
+    global _numba
+    if _numba is None:
+        import numba
+
+        _numba = numba
+    return _numba
 
 _LOW_BITS = 10  # a block holds 2^10 doubles (8 kB, in L1)
 _CHUNKS = 32  # blocks are dealt to this many interleaved chunks (fixed: deterministic sums)
@@ -59,7 +68,7 @@ _STORE_ALL_BYTES = 1 << 30  # keep every forward message up to this much memory
 
 def numba_enabled() -> bool:
     """True when numba is importable and ``PROJTRACK_NO_NUMBA`` is not ``1``."""
-    return _numba is not None and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
+    return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
 
 
 def _forward_step(Fi, Fo, w, u, i, pc, L):  # pragma: no cover - compiled
@@ -246,7 +255,7 @@ def _kernel(name: str, parallel: bool):
     key = (name, parallel)
     if key not in _kernels:
         fn = {"forward": _forward_step, "backward": _backward_step, "final": _final_sums}[name]
-        _kernels[key] = _numba.njit(cache=True, parallel=parallel, nogil=True,
+        _kernels[key] = _import_numba().njit(cache=True, parallel=parallel, nogil=True,
                                     fastmath={"reassoc", "contract"})(fn)
     return _kernels[key]
 
@@ -308,7 +317,7 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     block size and the memory limit for keeping every forward message (for tests);
     ``parallel`` chooses the threaded kernels (default: from ``_PARALLEL_MIN_SLOTS`` slots).
     """
-    if _numba is None:
+    if not _HAVE_NUMBA:
         raise RuntimeError("projtrack._fast_jpda.fb_sweep needs numba")
     W = np.ascontiguousarray(W, dtype=float)
     u = np.ascontiguousarray(u, dtype=float)
