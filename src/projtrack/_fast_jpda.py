@@ -30,9 +30,11 @@ of slots (bit words),
    sweep (one extra forward sweep in time, ``O(sqrt(n_items) 2^n)`` memory instead of
    ``O(n_items 2^n)``).
 
-Blocks are spread over threads (numba ``prange``) in a fixed number of interleaved chunks
-whose partial sums are added in a fixed order, so the result does not depend on the
-number of threads. All sums have positive terms (no cancellation): the result agrees with
+Blocks are spread over threads (numba ``prange``, from ``_PARALLEL_MIN_SLOTS`` slots on;
+smaller sweeps run serial kernels) in a fixed number of interleaved chunks whose partial
+sums are added in a fixed order, so the result does not depend on the number of threads.
+The message buffers of the last size swept (up to ``_POOL_BYTES``) are kept for the next
+call: at ``2^20`` states the page faults of fresh buffers cost more than the arithmetic. All sums have positive terms (no cancellation): the result agrees with
 the plain sweep to rounding. This module needs numba; :func:`numba_enabled` says whether
 it is used (numba importable and ``PROJTRACK_NO_NUMBA`` not ``1``).
 """
@@ -60,6 +62,7 @@ def _import_numba() -> Any:
 
         _numba = numba
     return _numba
+
 
 _LOW_BITS = 10  # a block holds 2^10 doubles (8 kB, in L1)
 _CHUNKS = 32  # blocks are dealt to this many interleaved chunks (fixed: deterministic sums)
