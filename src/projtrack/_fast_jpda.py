@@ -66,7 +66,8 @@ def _import_numba() -> Any:
 
 _LOW_BITS = 10  # a block holds 2^10 doubles (8 kB, in L1)
 _CHUNKS = 32  # blocks are dealt to this many interleaved chunks (fixed: deterministic sums)
-_STORE_ALL_BYTES = 1 << 30  # keep every forward message up to this much memory
+_STORE_ALL_BYTES = 1 << 28  # keep every forward message up to this much memory (fresh memory
+# costs page faults: beyond what the buffer pool keeps, recomputing a segment is cheaper)
 
 
 def numba_enabled() -> bool:
