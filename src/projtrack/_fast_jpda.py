@@ -30,9 +30,10 @@ of slots (bit words),
    sweep (one extra forward sweep in time, ``O(sqrt(n_items) 2^n)`` memory instead of
    ``O(n_items 2^n)``).
 
-Blocks are spread over threads (numba ``prange``, from ``_PARALLEL_MIN_SLOTS`` slots on;
-smaller sweeps run serial kernels) in a fixed number of interleaved chunks whose partial
-sums are added in a fixed order, so the result does not depend on the number of threads.
+Blocks are dealt to a fixed number of interleaved chunks whose partial sums are added in
+a fixed order, so the result does not depend on the number of threads; from
+``_PARALLEL_MIN_SLOTS`` slots on, two Python threads run the (GIL-free) kernels on
+alternate chunks, smaller sweeps run in the calling thread.
 The message buffers of the last size swept (up to ``_POOL_BYTES``) are kept for the next
 call: at ``2^20`` states the page faults of fresh buffers cost more than the arithmetic. All sums have positive terms (no cancellation): the result agrees with
 the plain sweep to rounding. This module needs numba; :func:`numba_enabled` says whether
@@ -43,6 +44,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+from concurrent.futures import ThreadPoolExecutor
 from math import ceil, sqrt
 from typing import Any
 
@@ -75,14 +77,14 @@ def numba_enabled() -> bool:
     return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
 
 
-def _forward_step(Fi, Fo, w, u, i, pc, L):  # pragma: no cover - compiled
+def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - compiled
     """``Fo = F_{i+1}`` from ``Fi = F_i`` (blocks of more than ``i + 1`` high bits: zero)."""
     B = 1 << L
     rows = Fi.shape[0] >> L
     H = w.shape[0] - L
     w0 = w[0]
     w1 = w[1]
-    for ch in _numba.prange(_CHUNKS):
+    for ch in range(c0, _CHUNKS, cstep):
         for h in range(ch, rows, _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
             if pc[h] > i + 1:
@@ -130,7 +132,7 @@ def _forward_step(Fi, Fo, w, u, i, pc, L):  # pragma: no cover - compiled
                     fo[l] += wa * src_a[l]
 
 
-def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part):  # pragma: no cover - compiled
+def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no cover - compiled
     """``Go = G_i`` from ``Gn = G_{i+1}`` on the blocks of at most ``i`` high bits, and the
     per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``."""
     B = 1 << L
@@ -139,7 +141,7 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part):  # pragma: no cover - comp
     H = n - L
     w0 = w[0]
     w1 = w[1]
-    for ch in _numba.prange(_CHUNKS):
+    for ch in range(c0, _CHUNKS, cstep):
         for k in range(n + 1):
             part[ch, k] = 0.0
         for h in range(ch, rows, _CHUNKS):
@@ -218,13 +220,13 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part):  # pragma: no cover - comp
                 part[ch, L + pend] += acc_a
 
 
-def _final_sums(F, V, L, part):  # pragma: no cover - compiled
+def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
     """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``."""
     B = 1 << L
     rows = F.shape[0] >> L
     n = part.shape[1] - 1
     H = n - L
-    for ch in _numba.prange(_CHUNKS):
+    for ch in range(c0, _CHUNKS, cstep):
         for k in range(n + 1):
             part[ch, k] = 0.0
         for h in range(ch, rows, _CHUNKS):
@@ -245,23 +247,30 @@ def _final_sums(F, V, L, part):  # pragma: no cover - compiled
                     part[ch, L + b] += tot
 
 
-_kernels: dict[tuple[str, bool], Any] = {}
+_kernels: dict[str, Any] = {}
 _PARALLEL_MIN_SLOTS = 18  # below 2^18 states a step is too short to share between threads
 
 
-def _kernel(name: str, parallel: bool):
+def _kernel(name: str):
     """The compiled kernel ``name`` (compiled on first use, cached on disk where possible).
 
-    ``parallel=False`` compiles ``prange`` as ``range``: no thread start-up or barrier per
-    step, which for small state spaces costs more than the step (OpenMP threads spin while
-    they wait, and on a busy machine a descheduled thread stalls every step).
+    A kernel call handles the chunks ``c0, c0 + cstep, ...``; the threaded sweep runs one
+    call per thread (the kernels release the GIL). Python threads rather than numba's
+    threading layer: its OpenMP layer obeys ``OMP_NUM_THREADS`` (one thread here, for the
+    BLAS), and a barrier per step in small sweeps costs more than the step.
     """
-    key = (name, parallel)
-    if key not in _kernels:
+    if name not in _kernels:
         fn = {"forward": _forward_step, "backward": _backward_step, "final": _final_sums}[name]
-        _kernels[key] = _import_numba().njit(cache=True, parallel=parallel, nogil=True,
-                                    fastmath={"reassoc", "contract"})(fn)
-    return _kernels[key]
+        _kernels[name] = _import_numba().njit(cache=True, nogil=True,
+                                              fastmath={"reassoc", "contract"})(fn)
+    return _kernels[name]
+
+
+def _n_threads() -> int:
+    try:
+        return max(1, min(2, len(os.sched_getaffinity(0))))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, min(2, os.cpu_count() or 1))
 
 
 def warm_up() -> None:
@@ -336,12 +345,34 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
         return Z, gW[:, :n], gu, un[:n]
     L = min(n, max(2, _LOW_BITS if low_bits is None else int(low_bits)))
     rows = N >> L
+    limit = _STORE_ALL_BYTES if store_all_bytes is None else int(store_all_bytes)
+    par = n >= _PARALLEL_MIN_SLOTS if parallel is None else bool(parallel)
+    n_thr = _n_threads() if par else 1
+    pool = ThreadPoolExecutor(max_workers=n_thr) if n_thr > 1 else None
+
+    def runner(kernel):
+        def run(*args):
+            if pool is None:
+                kernel(*args, 0, 1)
+            else:
+                for job in [pool.submit(kernel, *args, t, n_thr) for t in range(n_thr)]:
+                    job.result()
+        return run
+
+    try:
+        return _sweep(W, u, v, ops, N, L, rows, limit,
+                      *(runner(_kernel(k)) for k in ("forward", "backward", "final")))
+    finally:
+        if pool is not None:
+            pool.shutdown()
+
+
+def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
+    """The body of :func:`fb_sweep`: the two sweeps with the kernels ``fwd, bwd, fin``."""
+    n_it, n = W.shape
     pc = np.zeros(rows, dtype=np.int64)
     for b in range(n - L):
         pc += (np.arange(rows) >> b) & 1
-    par = n >= _PARALLEL_MIN_SLOTS if parallel is None else bool(parallel)
-    fwd, bwd, fin = (_kernel(k, par) for k in ("forward", "backward", "final"))
-    limit = _STORE_ALL_BYTES if store_all_bytes is None else int(store_all_bytes)
     store_all = (n_it + 1) * N * 8 <= limit
     seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
     # forward sweep: F_a kept at the checkpoints a = 0, seg, 2 seg, ... (every a when
