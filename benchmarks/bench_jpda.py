@@ -10,16 +10,26 @@ All methods are checked to give the same beta. Best of a few repeats; a method i
 not run at a size whose time, extrapolated from the growth between the two previous
 sizes, would exceed ``CAP`` seconds (the exact methods grow exponentially). Run:
 ``python benchmarks/bench_jpda.py``.
+
+A second table times the exact forward-backward method at larger clusters (m = T = 16, 20,
+24): the compiled sweep (numba, the default when installed) against the previous numpy
+sweep (``PROJTRACK_NO_NUMBA=1``) in the same run, with the targets m = T = 20 in under
+0.25 s and m = T = 24 in under 5 s (2 cores, one BLAS thread) and the largest relative
+difference between the two. Wall-clock and CPU seconds (all threads) are both shown: on a
+busy machine the wall-clock time of a threaded run says little.
 """
 
 from __future__ import annotations
 
+import os
 import time
 import warnings
+from contextlib import contextmanager
 
 import numpy as np
 
 from projtrack import jpda
+from projtrack.jpda import _kernel as _fast_jpda
 from projtrack._peers import stonesoup_jpda
 
 CAP = 2.5  # seconds: a method is not run at a size whose predicted time exceeds this
@@ -56,6 +66,8 @@ def best_time(fn, repeats: int) -> tuple[float, np.ndarray]:
 
 def main() -> None:
     warnings.simplefilter("ignore")  # Stone Soup warns about Probability arithmetic
+    if _fast_jpda.numba_enabled():
+        _fast_jpda.warm_up()  # compile (or load numba's cache) before anything is timed
     rng = np.random.default_rng(0)
     names = ["enumerate", "paper", "auto", "stonesoup JPDA", "stonesoup EHM"]
     alive = dict.fromkeys(names, True)
@@ -109,5 +121,58 @@ def main() -> None:
           f"m = T = 20 in {t20:.3f} s (< 2 s: {t20 < 2})")
 
 
+@contextmanager
+def numpy_sweep():
+    """Run the previous numpy sweep (PROJTRACK_NO_NUMBA=1) inside the block."""
+    old = os.environ.get("PROJTRACK_NO_NUMBA")
+    os.environ["PROJTRACK_NO_NUMBA"] = "1"
+    try:
+        yield
+    finally:
+        if old is None:
+            del os.environ["PROJTRACK_NO_NUMBA"]
+        else:
+            os.environ["PROJTRACK_NO_NUMBA"] = old
+
+
+def timed(fn, repeats: int) -> tuple[float, float, np.ndarray]:
+    """Best wall-clock and CPU seconds of ``repeats`` calls, and the result."""
+    wall = cpu = np.inf
+    out = None
+    for _ in range(repeats):
+        t, c = time.perf_counter(), time.process_time()
+        out = fn()
+        wall, cpu = min(wall, time.perf_counter() - t), min(cpu, time.process_time() - c)
+    return wall, cpu, out
+
+
+def bench_large() -> None:
+    """The exact forward-backward method at m = T = 16, 20, 24: compiled against numpy."""
+    targets = {20: 0.25, 24: 5.0}
+    if not _fast_jpda.numba_enabled():
+        print("\nnumba missing or PROJTRACK_NO_NUMBA=1: the compiled sweep is not timed")
+        return
+    _fast_jpda.warm_up()  # compilation (or loading numba's cache) is not timed
+    print("\nExact forward-backward beta, fully gated m = T = n: compiled sweep vs the previous numpy")
+    print("sweep, same run (wall-clock and CPU seconds; ratio = compiled / numpy wall-clock)")
+    print(f"{'n':>3} {'compiled wall':>14} {'cpu':>8} {'numpy wall':>11} {'cpu':>8} {'ratio':>6} "
+          f"{'max rel diff':>13}  target")
+    for n in (16, 20, 24):
+        mvm = problem(n, np.random.default_rng(n))[3]
+        fast = timed(lambda: jpda.beta_forward_backward(mvm), 3 if n < 24 else 1)
+        if n < 24:
+            with numpy_sweep():
+                slow = timed(lambda: jpda.beta_forward_backward(mvm), 2)
+            rel = float(np.max(np.abs(fast[2] - slow[2]) / np.abs(slow[2])))
+            cells = f"{slow[0]:11.3f} {slow[1]:8.3f} {fast[0] / slow[0]:6.2f} {rel:13.1e}"
+        else:  # the numpy sweep keeps all 25 messages of 2^24 doubles (3.4 GB): not run
+            cells = f"{'-':>11} {'-':>8} {'-':>6} {'-':>13}"
+        goal = targets.get(n)
+        note = (f"< {goal:g} s: {'met' if fast[0] < goal else 'NOT met'} (cpu/2 = {fast[1] / 2:.3f} s)"
+                if goal else "")
+        print(f"{n:3d} {fast[0]:14.3f} {fast[1]:8.3f} {cells}  {note}", flush=True)
+
+
 if __name__ == "__main__":
     main()
+    bench_large()

@@ -16,6 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from projtrack._validation import as_real, as_shape2
+from projtrack.hough import _kernel
 from projtrack.hough._checks import (_check_binary_image, _check_frames, _check_origin, _check_points,
                                      _origin_xy)
 
@@ -71,21 +72,8 @@ def hough_axes(shape: tuple[int, int], drho: float = 2.0, dtheta_deg: float = 1.
 def _vote(pts: np.ndarray, shape: tuple[int, int], rhos: np.ndarray, thetas_deg: np.ndarray,
           drho: float, origin: str, weights: np.ndarray | None = None) -> np.ndarray:
     """Accumulate Eq. (1) for every point and angle (internal, inputs already checked)."""
-    n_rho, n_theta = rhos.size, thetas_deg.size
-    if pts.shape[0] == 0:
-        return np.zeros((n_rho, n_theta))
     cx, cy = _origin_xy(shape, origin)
-    t = np.deg2rad(thetas_deg)
-    rho = (pts[:, 0:1] - cx) * np.cos(t) + (pts[:, 1:2] - cy) * np.sin(t)  # (N, n_theta), Eq. (1)
-    # Integer pixels land exactly on bin boundaries (e.g. at 30/60/120/150 degrees); rounding
-    # the bin coordinate to 9 decimals first makes the side a tie falls on independent of the
-    # last bit of cos/sin (which differs between CPU math libraries): ties go up.
-    idx = np.floor(np.round((rho - rhos[0]) / drho, 9) + 0.5).astype(np.int64)
-    np.clip(idx, 0, n_rho - 1, out=idx)
-    flat = idx * n_theta + np.arange(n_theta)
-    w = None if weights is None else np.repeat(weights[:, None], n_theta, axis=1).ravel()
-    acc = np.bincount(flat.ravel(), weights=w, minlength=n_rho * n_theta)
-    return acc.reshape(n_rho, n_theta).astype(float)
+    return _kernel.vote(pts, cx, cy, float(rhos[0]), rhos.size, thetas_deg, drho, weights)
 
 
 def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,

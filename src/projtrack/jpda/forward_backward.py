@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _kernel
 from ._checks import _check_mvm, _fail_no_event, _normalize_columns
 
 if TYPE_CHECKING:
@@ -25,6 +26,7 @@ __all__ = ["beta_forward_backward"]
 _THREAD_MIN_BITS = 14  # overlap gradients and backward messages from 2^14 states on
 _SPARSE_MAX_HIGH_BITS = 16  # up to 2^16 rows the high bits use one sparse product
 _LOW_BITS = 5  # the lowest bits of a subset index are handled by a small dense matrix (BLAS)
+_FAST_MIN_SLOTS = 8  # from 2^8 states on, the compiled sweep of projtrack.jpda._kernel (if numba)
 
 
 def _low_matrix(u: float, w: np.ndarray, n_low: int) -> np.ndarray:
@@ -119,10 +121,14 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
 
     The small dense products of the sweep gain nothing from BLAS threads, and idle
     BLAS threads spin-wait, which costs several times the work on a busy machine.
-    With ``reference=True`` the plain :func:`_fb_sweep_reference` runs instead.
+    With ``reference=True`` the plain :func:`_fb_sweep_reference` runs instead; from
+    ``_FAST_MIN_SLOTS`` slots on, the compiled sweep of ``projtrack.jpda._kernel`` runs
+    when numba is available (``PROJTRACK_NO_NUMBA=1`` keeps this numpy sweep).
     """
     if reference:
         return _fb_sweep_reference(W, u, v, ops)
+    if W.shape[1] >= _FAST_MIN_SLOTS and _kernel.numba_enabled():
+        return _kernel.fb_sweep(W, u, v, ops)  # compiled, same recursions (numba)
     if W.shape[1] < 12:
         return _fb_sweep(W, u, v, ops)
     from threadpoolctl import threadpool_limits  # a dependency of scikit-learn

@@ -1,0 +1,441 @@
+"""Compiled forward-backward sweep over subsets for exact JPDA (numba, optional).
+
+The recursions are those of the sum over partial matchings used by exact JPDA: items
+``i`` (rows of ``W``) are unmatched (weight ``u_i``) or matched to a distinct slot ``k``
+(weight ``W[i, k]``); a slot left unmatched weighs ``v_k``. With states ``S`` the subsets
+of slots (bit words),
+
+* forward ``F_0 = [S == {}]``, ``F_{i+1}[S] = u_i F_i[S] + sum_{k in S} W[i, k] F_i[S - k]``;
+* backward ``G_n = V`` with ``V[S] = prod_{k not in S} v_k`` and
+  ``G_i[S] = u_i G_{i+1}[S] + sum_{k not in S} W[i, k] G_{i+1}[S + k]``;
+* ``Z = sum_S F_n[S] V[S]``, ``W[i, k] dZ/dW[i, k] = W[i, k] sum_{S not containing k}
+  F_i[S] G_{i+1}[S + k]``, ``u_i dZ/du_i = u_i sum_S F_i[S] G_{i+1}[S]`` and
+  ``unmatched[k] = sum_{S not containing k} F_n[S] V[S]``.
+
+:func:`fb_sweep` evaluates them with three savings over a plain sweep:
+
+1. **support**: ``F_i`` vanishes on subsets of more than ``i`` slots, and the gradients of
+   item ``i`` read ``G_{i+1}`` only on subsets of at most ``i + 1`` slots, so step ``i``
+   of either sweep touches only the blocks (below) whose high bits number at most
+   ``i + 1``; the others are never formed (forward: set to zero);
+2. **cache blocking**: a state index is split into ``_LOW_BITS`` low bits (a block of
+   ``2^_LOW_BITS`` contiguous doubles, kept in L1) and the high bits (the block number);
+   each output block is *pulled* from its own input block (low bits, in-block strided
+   updates) and from the input blocks that differ in one high bit (contiguous vector
+   updates), so every block is written by one thread and the loops vectorize; the
+   gradients are accumulated in the same pass that forms the backward message;
+3. **memory**: the forward messages are kept only at checkpoints (every about
+   ``sqrt(n_items)`` items) when storing all of them would exceed ``_STORE_ALL_BYTES``, and
+   the messages of one segment are recomputed from its checkpoint during the backward
+   sweep (one extra forward sweep in time, ``O(sqrt(n_items) 2^n)`` memory instead of
+   ``O(n_items 2^n)``).
+
+Blocks are dealt to a fixed number of interleaved chunks whose partial sums are added in
+a fixed order, so the result does not depend on the number of threads; from
+``_PARALLEL_MIN_SLOTS`` slots on, two Python threads run the (GIL-free) kernels on
+alternate chunks, smaller sweeps run in the calling thread.
+The message buffers of the last size swept (up to ``_POOL_BYTES``) are kept for the next
+call: at ``2^20`` states the page faults of fresh buffers cost more than the arithmetic. All sums have positive terms (no cancellation): the result agrees with
+the plain sweep to rounding. This module needs numba; :func:`numba_enabled` says whether
+it is used (numba importable and ``PROJTRACK_NO_NUMBA`` not ``1``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from concurrent.futures import ThreadPoolExecutor
+from math import ceil, sqrt
+from typing import Any
+
+import numpy as np
+
+__all__ = ["fb_sweep", "numba_enabled"]
+
+# numba is optional, and imported only when a kernel is first compiled (it takes a second)
+_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
+_numba: Any = None
+
+
+def _import_numba() -> Any:
+    global _numba
+    if _numba is None:
+        import numba
+
+        _numba = numba
+    return _numba
+
+
+_LOW_BITS = 10  # a block holds 2^10 doubles (8 kB, in L1)
+_CHUNKS = 32  # blocks are dealt to this many interleaved chunks (fixed: deterministic sums)
+_STORE_ALL_BYTES = 1 << 28  # keep every forward message up to this much memory (fresh memory
+# costs page faults: beyond what the buffer pool keeps, recomputing a segment is cheaper)
+
+
+def numba_enabled() -> bool:
+    """True when numba is importable and ``PROJTRACK_NO_NUMBA`` is not ``1``."""
+    return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
+
+
+def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - compiled
+    """``Fo = F_{i+1}`` from ``Fi = F_i`` (blocks of more than ``i + 1`` high bits: zero)."""
+    B = 1 << L
+    rows = Fi.shape[0] >> L
+    H = w.shape[0] - L
+    w0 = w[0]
+    w1 = w[1]
+    for ch in range(c0, _CHUNKS, cstep):
+        for h in range(ch, rows, _CHUNKS):
+            fo = Fo[h * B:(h + 1) * B]
+            if pc[h] > i + 1:
+                fo[:] = 0.0
+                continue
+            fi = Fi[h * B:(h + 1) * B]
+            # the item unmatched and the two lowest bits, four states at a time
+            for l in range(0, B, 4):
+                i0 = fi[l]
+                i1 = fi[l + 1]
+                i2 = fi[l + 2]
+                fo[l] = u * i0
+                fo[l + 1] = u * i1 + w0 * i0
+                fo[l + 2] = u * i2 + w1 * i0
+                fo[l + 3] = u * fi[l + 3] + w0 * i2 + w1 * i1
+            for k in range(2, L):
+                wk = w[k]
+                if wk == 0.0:
+                    continue
+                st = 1 << k
+                for base in range(0, B, 2 * st):
+                    for j in range(st):
+                        fo[base + st + j] += wk * fi[base + j]
+            # the high bits: the blocks without one of them, two source blocks per pass
+            pend = -1
+            for b in range(H):
+                if (h >> b) & 1 and w[L + b] != 0.0:
+                    if pend < 0:
+                        pend = b
+                        continue
+                    sa = (h ^ (1 << pend)) * B
+                    sb = (h ^ (1 << b)) * B
+                    wa = w[L + pend]
+                    wb = w[L + b]
+                    src_a = Fi[sa:sa + B]
+                    src_b = Fi[sb:sb + B]
+                    for l in range(B):
+                        fo[l] += wa * src_a[l] + wb * src_b[l]
+                    pend = -1
+            if pend >= 0:
+                sa = (h ^ (1 << pend)) * B
+                wa = w[L + pend]
+                src_a = Fi[sa:sa + B]
+                for l in range(B):
+                    fo[l] += wa * src_a[l]
+
+
+def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no cover - compiled
+    """``Go = G_i`` from ``Gn = G_{i+1}`` on the blocks of at most ``i`` high bits, and the
+    per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``."""
+    B = 1 << L
+    rows = Fi.shape[0] >> L
+    n = w.shape[0]
+    H = n - L
+    w0 = w[0]
+    w1 = w[1]
+    for ch in range(c0, _CHUNKS, cstep):
+        for k in range(n + 1):
+            part[ch, k] = 0.0
+        for h in range(ch, rows, _CHUNKS):
+            if pc[h] > i:
+                continue
+            fi = Fi[h * B:(h + 1) * B]
+            gn = Gn[h * B:(h + 1) * B]
+            go = Go[h * B:(h + 1) * B]
+            au = 0.0
+            a0 = 0.0
+            a1 = 0.0
+            for l in range(0, B, 4):
+                g0 = gn[l]
+                g1 = gn[l + 1]
+                g2 = gn[l + 2]
+                g3 = gn[l + 3]
+                f0 = fi[l]
+                f1 = fi[l + 1]
+                f2 = fi[l + 2]
+                go[l] = u * g0 + w0 * g1 + w1 * g2
+                go[l + 1] = u * g1 + w1 * g3
+                go[l + 2] = u * g2 + w0 * g3
+                go[l + 3] = u * g3
+                au += f0 * g0 + f1 * g1 + f2 * g2 + fi[l + 3] * g3
+                a0 += f0 * g1 + f2 * g3
+                a1 += f0 * g2 + f1 * g3
+            part[ch, n] += au
+            part[ch, 0] += a0
+            part[ch, 1] += a1
+            for k in range(2, L):
+                wk = w[k]
+                if wk == 0.0:
+                    continue
+                st = 1 << k
+                acc = 0.0
+                for base in range(0, B, 2 * st):
+                    for j in range(st):
+                        g = gn[base + st + j]
+                        go[base + j] += wk * g
+                        acc += fi[base + j] * g
+                part[ch, k] += acc
+            # the high bits: the blocks with one more of them, two source blocks per pass
+            pend = -1
+            for b in range(H):
+                if not (h >> b) & 1 and w[L + b] != 0.0:
+                    if pend < 0:
+                        pend = b
+                        continue
+                    sa = (h | (1 << pend)) * B
+                    sb = (h | (1 << b)) * B
+                    wa = w[L + pend]
+                    wb = w[L + b]
+                    src_a = Gn[sa:sa + B]
+                    src_b = Gn[sb:sb + B]
+                    acc_a = 0.0
+                    acc_b = 0.0
+                    for l in range(B):
+                        ga = src_a[l]
+                        gb = src_b[l]
+                        f = fi[l]
+                        go[l] += wa * ga + wb * gb
+                        acc_a += f * ga
+                        acc_b += f * gb
+                    part[ch, L + pend] += acc_a
+                    part[ch, L + b] += acc_b
+                    pend = -1
+            if pend >= 0:
+                sa = (h | (1 << pend)) * B
+                wa = w[L + pend]
+                src_a = Gn[sa:sa + B]
+                acc_a = 0.0
+                for l in range(B):
+                    ga = src_a[l]
+                    go[l] += wa * ga
+                    acc_a += fi[l] * ga
+                part[ch, L + pend] += acc_a
+
+
+def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
+    """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``."""
+    B = 1 << L
+    rows = F.shape[0] >> L
+    n = part.shape[1] - 1
+    H = n - L
+    for ch in range(c0, _CHUNKS, cstep):
+        for k in range(n + 1):
+            part[ch, k] = 0.0
+        for h in range(ch, rows, _CHUNKS):
+            o = h * B
+            tot = 0.0
+            for l in range(B):
+                tot += F[o + l] * V[o + l]
+            part[ch, n] += tot
+            for k in range(L):
+                st = 1 << k
+                acc = 0.0
+                for base in range(0, B, 2 * st):
+                    for j in range(st):
+                        acc += F[o + base + j] * V[o + base + j]
+                part[ch, k] += acc
+            for b in range(H):
+                if not (h >> b) & 1:
+                    part[ch, L + b] += tot
+
+
+_kernels: dict[str, Any] = {}
+_PARALLEL_MIN_SLOTS = 18  # below 2^18 states a step is too short to share between threads
+
+
+def _kernel(name: str):
+    """The compiled kernel ``name`` (compiled on first use, cached on disk where possible).
+
+    A kernel call handles the chunks ``c0, c0 + cstep, ...``; the threaded sweep runs one
+    call per thread (the kernels release the GIL). Python threads rather than numba's
+    threading layer: its OpenMP layer obeys ``OMP_NUM_THREADS`` (one thread here, for the
+    BLAS), and a barrier per step in small sweeps costs more than the step.
+    """
+    if name not in _kernels:
+        fn = {"forward": _forward_step, "backward": _backward_step, "final": _final_sums}[name]
+        _kernels[name] = _import_numba().njit(cache=True, nogil=True,
+                                              fastmath={"reassoc", "contract"})(fn)
+    return _kernels[name]
+
+
+def _n_threads() -> int:
+    try:
+        return max(1, min(2, len(os.sched_getaffinity(0))))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, min(2, os.cpu_count() or 1))
+
+
+def warm_up() -> None:
+    """Compile (or load from the cache) the kernels now, e.g. before timing them."""
+    W = np.full((2, 3), 0.5)
+    for par in (False, True):
+        fb_sweep(W, np.ones(2), np.ones(3), low_bits=1, parallel=par)
+
+
+def _v_message(v: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """``V[S] = prod_{k not in S} v_k`` for every subset ``S`` of the slots, written into ``V``."""
+    V[0] = 1.0
+    size = 1
+    for vk in v:  # bit k doubles the table: [V * v_k (k absent), V (k present)]
+        V[size:2 * size] = V[:size]
+        V[:size] *= vk
+        size *= 2
+    return V
+
+
+# Freshly allocated messages cost page faults (several times the arithmetic of a forward
+# step at 2^20 states): the messages of the last size swept are kept for the next call, up
+# to _POOL_BYTES. Taking and returning arrays are single list operations (thread-safe).
+_POOL_BYTES = 1 << 28
+_pool: dict[int, list[np.ndarray]] = {}
+
+
+def _take(N: int) -> np.ndarray:
+    try:
+        return _pool.get(N, []).pop()
+    except IndexError:
+        return np.empty(N)
+
+
+def _give_back(arrays: list[np.ndarray], N: int) -> None:
+    keep = _POOL_BYTES // (8 * N)
+    if N not in _pool:
+        _pool.clear()
+        _pool[N] = []
+    free = _pool.get(N, [])
+    for a in arrays:
+        if len(free) >= keep:
+            break
+        free.append(a)
+
+
+def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
+             low_bits: int | None = None,
+             store_all_bytes: int | None = None,
+             parallel: bool | None = None) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """``(Z, W * dZ/dW, u * dZ/du, unmatched)`` of the recursions above (needs numba).
+
+    ``W`` is ``(n_items, n)`` (``n`` slots, ``2^n`` states), ``u`` ``(n_items,)``, ``v``
+    ``(n,)``, all non-negative and already checked. ``ops`` (an object with
+    ``add(n_add=, n_mul=)``) receives the operation count of the plain sweep (the same
+    count as the numpy sweeps record). ``low_bits`` and ``store_all_bytes`` override the
+    block size and the memory limit for keeping every forward message (for tests);
+    ``parallel`` chooses the threaded kernels (default: from ``_PARALLEL_MIN_SLOTS`` slots).
+    """
+    if not _HAVE_NUMBA:
+        raise RuntimeError("projtrack.jpda._kernel.fb_sweep needs numba")
+    W = np.ascontiguousarray(W, dtype=float)
+    u = np.ascontiguousarray(u, dtype=float)
+    v = np.ascontiguousarray(v, dtype=float)
+    n_it, n = W.shape
+    N = 1 << n
+    if n < 2:  # the kernels handle two bits at a time: pad with slots nobody can take
+        Z, gW, gu, un = fb_sweep(np.hstack([W, np.zeros((n_it, 2 - n))]), u,
+                                 np.concatenate([v, np.ones(2 - n)]), None, low_bits=2,
+                                 store_all_bytes=store_all_bytes, parallel=parallel)
+        _count(ops, W, N)
+        return Z, gW[:, :n], gu, un[:n]
+    L = min(n, max(2, _LOW_BITS if low_bits is None else int(low_bits)))
+    rows = N >> L
+    limit = _STORE_ALL_BYTES if store_all_bytes is None else int(store_all_bytes)
+    par = n >= _PARALLEL_MIN_SLOTS if parallel is None else bool(parallel)
+    n_thr = _n_threads() if par else 1
+    pool = ThreadPoolExecutor(max_workers=n_thr) if n_thr > 1 else None
+
+    def runner(kernel):
+        def run(*args):
+            if pool is None:
+                kernel(*args, 0, 1)
+            else:
+                for job in [pool.submit(kernel, *args, t, n_thr) for t in range(n_thr)]:
+                    job.result()
+        return run
+
+    try:
+        return _sweep(W, u, v, ops, N, L, rows, limit,
+                      *(runner(_kernel(k)) for k in ("forward", "backward", "final")))
+    finally:
+        if pool is not None:
+            pool.shutdown()
+
+
+def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
+    """The body of :func:`fb_sweep`: the two sweeps with the kernels ``fwd, bwd, fin``."""
+    n_it, n = W.shape
+    pc = np.zeros(rows, dtype=np.int64)
+    for b in range(n - L):
+        pc += (np.arange(rows) >> b) & 1
+    store_all = (n_it + 1) * N * 8 <= limit
+    seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
+    # forward sweep: F_a kept at the checkpoints a = 0, seg, 2 seg, ... (every a when
+    # store_all) and at a = n_it; the messages in between go through two scratch buffers
+    owned: list[np.ndarray] = []
+
+    def new() -> np.ndarray:
+        arr = _take(N)
+        owned.append(arr)
+        return arr
+
+    checkpoints: dict[int, np.ndarray] = {}
+    F = new()
+    F[:] = 0.0
+    F[0] = 1.0
+    checkpoints[0] = F
+    scratch = [] if store_all else [new(), new()]
+    for i in range(n_it):
+        keep = (i + 1) % seg == 0 or i + 1 == n_it
+        out = new() if keep else scratch[i % 2]
+        fwd(F, out, W[i], u[i], i, pc, L)
+        if keep:
+            checkpoints[i + 1] = out
+        F = out
+    V = _v_message(v, new())
+    part = np.empty((_CHUNKS, n + 1))
+    fin(F, V, L, part)
+    sums = part.sum(axis=0)
+    Z, un = float(sums[n]), sums[:n].copy()
+    gW = np.zeros((n_it, n))
+    gu = np.zeros(n_it)
+    scratch.append(checkpoints.pop(n_it))  # F_n is no longer needed
+    del F, out
+    # backward sweep, segment by segment from the last; a segment's forward messages are
+    # recomputed from its checkpoint into free buffers
+    starts = sorted(checkpoints)
+    G, Gn = V, (scratch.pop() if scratch else new())
+    for j in range(len(starts) - 1, -1, -1):
+        a = starts[j]
+        b = starts[j + 1] if j + 1 < len(starts) else n_it
+        msgs = [checkpoints.pop(a)]
+        for i in range(a, b - 1):
+            nxt = scratch.pop() if scratch else new()
+            fwd(msgs[-1], nxt, W[i], u[i], i, pc, L)
+            msgs.append(nxt)
+        for i in range(b - 1, a - 1, -1):
+            Fi = msgs.pop()
+            bwd(Fi, G, Gn, W[i], u[i], i, pc, L, part)
+            sums = part.sum(axis=0)
+            gW[i] = W[i] * sums[:n]
+            gu[i] = u[i] * sums[n]
+            G, Gn = Gn, G
+            scratch.append(Fi)
+    del G, Gn, msgs, scratch
+    _give_back(owned, N)
+    _count(ops, W, N)
+    return Z, gW, gu, un
+
+
+def _count(ops: Any, W: np.ndarray, N: int) -> None:
+    """The operation count of the plain forward and backward sweeps (as the numpy sweeps record it)."""
+    if ops is not None:
+        nz = np.count_nonzero(W, axis=1).astype(np.int64)
+        half = N >> 1
+        ops.add(n_add=int(np.sum(nz * half) + np.sum(N + 2 * nz * half)),
+                n_mul=int(np.sum(N + nz * half) + np.sum(2 * N + 2 * nz * half)))
