@@ -103,6 +103,28 @@ def test_hyperplane_ranks_three_views_suffice():
     assert (tab["q=2"] < tab["n(n+1)/2"]).all()
     with pytest.raises(ValueError, match="n_draws"):
         XP.hyperplane_ranks(np.random.default_rng(0), n_draws=0)
+    with pytest.raises(ValueError, match="q"):
+        XP.hyperplane_ranks(np.random.default_rng(0), qs=[])
+
+
+def test_hyperplane_rank_trial_gives_every_cell_and_the_study_takes_the_minimum():
+    t = XP.hyperplane_rank_trial(np.random.default_rng(5), [2, 3], [1, 2])
+    assert set(t) == {(2, 1), (2, 2), (3, 1), (3, 2)} and t[(2, 1)] == 1 and t[(3, 2)] == 5
+    # the study's draws are the children of its generator, one trial each
+    kids = np.random.default_rng(5).spawn(3)
+    trials = [XP.hyperplane_rank_trial(k, [4], [2, 3]) for k in kids]
+    tab = XP.hyperplane_ranks(np.random.default_rng(5), ns=[4], qs=[2, 3], n_draws=3)
+    assert tab["q=2"].iloc[0] == min(t[(4, 2)] for t in trials) and tab["q=3"].iloc[0] == 10
+
+
+def test_ctilde_identity_study_finds_the_identities_exact():
+    out = XP.ctilde_identity_study(12, np.random.default_rng(4), n_max=4)
+    assert out["count"] == 12 and out["err_kron"] < 1e-12 and out["err_proj"] < 1e-12
+    assert max(XP.ctilde_identity_trial(np.random.default_rng(1), n_max=2)) < 1e-12
+    with pytest.raises(ValueError, match="n_checks"):
+        XP.ctilde_identity_study(0, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="n_max"):
+        XP.ctilde_identity_study(3, np.random.default_rng(0), n_max=1)
 
 
 # --------------------------------------------------------------------------- dynamic
@@ -188,6 +210,31 @@ def test_silhouettes_3d_study_needs_three_views():
     assert len(examples) == 2
     with pytest.raises(ValueError, match="n_points"):
         XP.silhouettes_3d_study(np.random.default_rng(3), n_points=2)
+
+
+def test_silhouette_trial_estimates_only_with_full_rank():
+    two = XP.silhouette_trial(np.random.default_rng(1), 2)
+    assert two["rank"] == 5 and two["estimate"] is None and np.isnan(two["error"]) and len(two["views"]) == 2
+    three = XP.silhouette_trial(np.random.default_rng(1), 3, n_points=40, noise=0.0)
+    assert three["rank"] == 6 and three["error"] < 1e-6 and E.is_psd(three["estimate"])
+
+
+def test_silhouettes_3d_study_is_the_same_serial_and_parallel():
+    kw = {"qs": [2, 3], "n_trials": 3, "n_points": 12}
+    tab1, ex1 = XP.silhouettes_3d_study(np.random.default_rng(3), n_jobs=1, **kw)
+    tab2, ex2 = XP.silhouettes_3d_study(np.random.default_rng(3), n_jobs=2, **kw)
+    assert tab1.equals(tab2) and len(ex1) == len(ex2) == 3
+    for a, b in zip(ex1, ex2):
+        assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1]) and a[3] == b[3]
+
+
+def test_random_interval_problems_are_draws_of_random_interval_draw():
+    X, A, y = XP.random_interval_draw(np.random.default_rng(0), 3, n_views=4, noise=0.0)
+    assert A.shape == (12, 6) and np.allclose(A @ E.svec(X), y)
+    problems = XP.random_interval_problems(np.random.default_rng(7), ns=[3], per_n=2)
+    kid = np.random.default_rng(7).spawn(2)[1]
+    _, A2, y2 = XP.random_interval_draw(kid, 3)
+    assert np.array_equal(problems[1][2], A2) and np.array_equal(problems[1][3], y2)
 
 
 def test_condition19_never_certifies_a_non_psd_estimate():

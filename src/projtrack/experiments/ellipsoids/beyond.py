@@ -13,18 +13,36 @@ from projtrack import montecarlo
 from projtrack._validation import as_int, as_real, as_rng, as_square
 from projtrack.scenes import ellipses as S
 
-__all__ = ["random_interval_problems", "constraint_violation", "compare_alg1_sdp", "silhouettes_3d_study",
-           "condition19_trial", "condition19_study"]
+__all__ = ["random_interval_draw", "random_interval_problems", "constraint_violation", "compare_alg1_sdp",
+           "silhouette_trial", "silhouettes_3d_study", "condition19_trial", "condition19_study"]
+
+
+def random_interval_draw(rng: np.random.Generator, n: int, n_views: int = 4,
+                         noise: float = 2.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One random problem of :func:`random_interval_problems`: a random ellipsoid of R^n in ``n_views`` noisy hyperplane views.
+
+    Returns ``(X, A, y)``: the true ellipsoid, the stacked operator (eq. 14) and the stacked
+    ``svec`` of the observations.
+    """
+    Xt = S.random_ellipsoid(n, rng)
+    Cs = [S.random_projection(n, n - 1, rng) for _ in range(n_views)]
+    Ys = []
+    for C in Cs:
+        Wn = rng.normal(0, noise, size=(n - 1, n - 1))
+        Ys.append(E.project(Xt, C) + (Wn + Wn.T) / np.sqrt(2) / 2)
+    return Xt, E.stacked_operator(Cs), np.concatenate([E.svec(Y) for Y in Ys])
 
 
 def random_interval_problems(rng: np.random.Generator, ns: Sequence[int] = range(2, 7), per_n: int = 5,
-                             n_views: int = 4, noise: float = 2.0) -> list[tuple]:
+                             n_views: int = 4, noise: float = 2.0, n_jobs: int | None = None) -> list[tuple]:
     """Random interval-constrained LS problems: a random ellipsoid seen in ``n_views`` hyperplanes.
 
     Symmetric Gaussian noise ``(W + W^T) / (2 sqrt 2)``, ``W`` with i.i.d. ``N(0, noise^2)``
     entries, perturbs each view; the constraint cycles through PSD
     (``lower = 0``), a scalar interval ``0.1 I <= X <= 6 I`` and a matrix interval
-    ``0.3 X <= X_hat <= 2.5 X``. Drawn in sequence from ``rng``.
+    ``0.3 X <= X_hat <= 2.5 X``. The ``per_n`` problems of each ``n`` are draws of
+    :func:`random_interval_draw` through :func:`projtrack.montecarlo.run` (``n_jobs`` passed on;
+    the problems do not depend on it).
 
     Returns
     -------
@@ -38,18 +56,12 @@ def random_interval_problems(rng: np.random.Generator, ns: Sequence[int] = range
     problems = []
     for n in ns:
         n = as_int(n, "n", minimum=2)
-        for i in range(per_n):
-            Xt = S.random_ellipsoid(n, rng)
-            Cs = [S.random_projection(n, n - 1, rng) for _ in range(n_views)]
-            Ys = []
-            for C in Cs:
-                Wn = rng.normal(0, noise, size=(n - 1, n - 1))
-                Ys.append(E.project(Xt, C) + (Wn + Wn.T) / np.sqrt(2) / 2)
+        draws = montecarlo.run(random_interval_draw, per_n, rng, n, n_views, noise, n_jobs=n_jobs)
+        for i, (Xt, A, y) in enumerate(draws):
             kind = ("PSD", "scalar", "matrix")[i % 3]
             lo, hi = {"PSD": (np.zeros((n, n)), None), "scalar": (0.1 * np.eye(n), 6.0 * np.eye(n)),
                       "matrix": (0.3 * Xt, 2.5 * Xt)}[kind]
-            problems.append((f"random n={n} #{i + 1}, {kind}", n, E.stacked_operator(Cs),
-                             np.concatenate([E.svec(Y) for Y in Ys]), lo, hi))
+            problems.append((f"random n={n} #{i + 1}, {kind}", n, A, y, lo, hi))
     return problems
 
 
@@ -109,23 +121,48 @@ def compare_alg1_sdp(problems: Sequence[tuple]) -> tuple[pd.DataFrame, pd.DataFr
     return pd.DataFrame(rows), pd.DataFrame(times)
 
 
+def silhouette_trial(rng: np.random.Generator, q: int, n_points: int = 30, noise: float = 0.05) -> dict:
+    """One trial of :func:`silhouettes_3d_study`: a random 3-D ellipsoid from ``q`` noisy 2-D silhouettes.
+
+    Returns a dict: ``X`` the true ellipsoid, ``views`` the ``q`` views, ``rank`` of their
+    stacked operator, and, when the rank is full (6), ``estimate`` (LS, replaced by the
+    PSD-constrained estimate of Algorithm 1 when not PSD), ``psd_fix`` (whether it was) and
+    ``error`` (relative Frobenius error); ``estimate`` None and ``error`` NaN otherwise.
+    """
+    X3 = S.random_ellipsoid(3, rng)
+    Cs3 = [S.random_projection(3, 2, rng) for _ in range(q)]
+    Ys3 = [E.fit_centered_ellipse(S.silhouette_points(X3, C, n_points, noise, rng)) for C in Cs3]
+    r = int(np.linalg.matrix_rank(E.stacked_operator(Cs3)))
+    out = {"X": X3, "views": Cs3, "rank": r, "estimate": None, "psd_fix": False, "error": np.nan}
+    if r < 6:
+        return out
+    Xh = E.reconstruct(Ys3, Cs3)
+    if not E.is_psd(Xh):
+        Xh = E.reconstruct(Ys3, Cs3, lower=0, method="halfspace")
+        out["psd_fix"] = True
+    out["estimate"], out["error"] = Xh, float(np.linalg.norm(Xh - X3) / np.linalg.norm(X3))
+    return out
+
+
 def silhouettes_3d_study(rng: np.random.Generator, qs: Sequence[int] = range(2, 9), n_trials: int = 25,
-                         n_points: int = 30, noise: float = 0.05,
-                         example_q: int = 3) -> tuple[pd.DataFrame, list[tuple]]:
+                         n_points: int = 30, noise: float = 0.05, example_q: int = 3,
+                         n_jobs: int | None = None) -> tuple[pd.DataFrame, list[tuple]]:
     """A random 3-D ellipsoid from ``q`` noisy 2-D silhouettes, for each ``q`` of ``qs``.
 
     Each silhouette is ``n_points`` edge points with normal noise ``noise``
     (:func:`projtrack.scenes.ellipses.silhouette_points`), fitted by
     :func:`projtrack.ellipsoids.fit_centered_ellipse`; the LS estimate is replaced by the
-    PSD-constrained one (Algorithm 1) when it is not PSD. Trials are drawn in sequence from
-    ``rng``; views with a rank-deficient stacked operator (rank < 6) are not estimated.
+    PSD-constrained one (Algorithm 1) when it is not PSD. For each ``q``, ``n_trials`` trials of
+    :func:`silhouette_trial` run through :func:`projtrack.montecarlo.run` (``n_jobs`` passed on;
+    the results do not depend on it); views with a rank-deficient stacked operator (rank < 6)
+    are not estimated.
 
     Returns
     -------
     (table, examples)
         One row per ``q``: minimum rank over trials, median and 90% quantile of the relative
         error, number of PSD fixes; and the ``(X, estimate, views, relative error)`` of the
-        trials with ``q = example_q``.
+        full-rank trials with ``q = example_q``.
     """
     rng = as_rng(rng)
     n_trials = as_int(n_trials, "n_trials", minimum=1)
@@ -134,25 +171,14 @@ def silhouettes_3d_study(rng: np.random.Generator, qs: Sequence[int] = range(2, 
     rows, examples = [], []
     for q in qs:
         q = as_int(q, "q", minimum=1)
-        errs, ranks, n_psd_fix = [], [], 0
-        for _ in range(n_trials):
-            X3 = S.random_ellipsoid(3, rng)
-            Cs3 = [S.random_projection(3, 2, rng) for _ in range(q)]
-            Ys3 = [E.fit_centered_ellipse(S.silhouette_points(X3, C, n_points, noise, rng)) for C in Cs3]
-            r = int(np.linalg.matrix_rank(E.stacked_operator(Cs3)))
-            ranks.append(r)
-            if r < 6:
-                continue
-            Xh = E.reconstruct(Ys3, Cs3)
-            if not E.is_psd(Xh):
-                Xh = E.reconstruct(Ys3, Cs3, lower=0, method="halfspace")
-                n_psd_fix += 1
-            errs.append(np.linalg.norm(Xh - X3) / np.linalg.norm(X3))
-            if q == example_q:
-                examples.append((X3, Xh, Cs3, errs[-1]))
-        rows.append({"views q": q, "rank (min over trials)": min(ranks),
+        trials = montecarlo.run(silhouette_trial, n_trials, rng, q, n_points, noise, n_jobs=n_jobs)
+        errs = [t["error"] for t in trials if t["estimate"] is not None]
+        if q == example_q:
+            examples += [(t["X"], t["estimate"], t["views"], t["error"]) for t in trials if t["estimate"] is not None]
+        rows.append({"views q": q, "rank (min over trials)": min(t["rank"] for t in trials),
                      "median rel. error": float(np.median(errs)) if errs else np.nan,
-                     "90% quantile": float(np.quantile(errs, 0.9)) if errs else np.nan, "PSD fixes": n_psd_fix})
+                     "90% quantile": float(np.quantile(errs, 0.9)) if errs else np.nan,
+                     "PSD fixes": sum(t["psd_fix"] for t in trials)})
     return pd.DataFrame(rows), examples
 
 

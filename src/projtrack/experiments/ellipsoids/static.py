@@ -4,7 +4,9 @@ The book's static page and its "beyond the paper" page draw the noise of Sec. 7.
 draw they show by a stated rule (:func:`shown_static_draw`), compare the unconstrained,
 PSD-constrained and interval-constrained estimates (:func:`three_estimates`) and measure how
 often the least squares estimate leaves the PSD cone (:func:`ls_psd_frequency`,
-:func:`noise_reading_study`, :func:`non_psd_pool_study`).
+:func:`noise_reading_study`, :func:`non_psd_pool_study`). The random checks of the operators
+behind them (the rank test of Sec. 5.1, :func:`hyperplane_ranks`; eqs. 6 and 10 on the
+representation page, :func:`ctilde_identity_study`) live here too.
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from projtrack.scenes import ellipses as S
 
 __all__ = ["demo_interval", "ideal_supports", "ls_estimates", "shown_static_draw", "three_estimates",
            "describe_estimates", "non_psd_pool_study", "ls_psd_frequency", "noise_reading_study",
-           "hyperplane_ranks"]
+           "hyperplane_rank_trial", "hyperplane_ranks", "ctilde_identity_trial", "ctilde_identity_study"]
 
 
 def demo_interval() -> tuple[np.ndarray, np.ndarray]:
@@ -261,21 +263,72 @@ def noise_reading_study(levels: Sequence[tuple[float, int]], n_blocks: int, bloc
     return pd.DataFrame(rows)
 
 
+def _as_sizes(values: Sequence[int], name: str, minimum: int) -> list[int]:
+    # a non-empty list of ints >= minimum (the dimensions or view counts of a rank table)
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+        raise TypeError(f"{name} must be a sequence of ints")
+    out = [as_int(v, name, minimum=minimum) for v in values]
+    if not out:
+        raise ValueError(f"{name} must not be empty")
+    return out
+
+
+def hyperplane_rank_trial(rng: np.random.Generator, ns: Sequence[int], qs: Sequence[int]) -> dict:
+    """One draw of :func:`hyperplane_ranks`: for every ``(n, q)``, ``q`` random hyperplane views of R^n.
+
+    Returns ``{(n, q): rank of the stacked operator (eq. 14)}``.
+    """
+    return {(n, q): int(np.linalg.matrix_rank(E.stacked_operator([S.random_projection(n, n - 1, rng)
+                                                                   for _ in range(q)])))
+            for n in ns for q in qs}
+
+
 def hyperplane_ranks(rng: np.random.Generator, ns: Sequence[int] = range(2, 7), qs: Sequence[int] = range(1, 5),
-                     n_draws: int = 20) -> pd.DataFrame:
+                     n_draws: int = 20, n_jobs: int | None = None) -> pd.DataFrame:
     """Rank of the stacked operator (eq. 14) for ``q`` random hyperplane views (m = n - 1), Sec. 5.1.
 
-    The minimum over ``n_draws`` random draws per ``(n, q)``, drawn in sequence from ``rng``.
+    The minimum over ``n_draws`` draws of :func:`hyperplane_rank_trial` per ``(n, q)``, run
+    through :func:`projtrack.montecarlo.run` (``n_jobs`` passed on; the table does not depend on it).
     """
     rng = as_rng(rng)
     n_draws = as_int(n_draws, "n_draws", minimum=1)
+    ns = _as_sizes(ns, "n", 2)
+    qs = _as_sizes(qs, "q", 1)
+    trials = montecarlo.run(hyperplane_rank_trial, n_draws, rng, ns, qs, n_jobs=n_jobs)
     rows = []
     for n in ns:
-        n = as_int(n, "n", minimum=2)
         row = {"n": n, "n(n+1)/2": n * (n + 1) // 2}
         for q in qs:
-            q = as_int(q, "q", minimum=1)
-            row[f"q={q}"] = min(int(np.linalg.matrix_rank(E.stacked_operator([S.random_projection(n, n - 1, rng)
-                                for _ in range(q)]))) for _ in range(n_draws))
+            row[f"q={q}"] = min(t[(n, q)] for t in trials)
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def ctilde_identity_trial(rng: np.random.Generator, n_max: int = 8) -> tuple[float, float]:
+    """One random check of eqs. (6) and (10): ``n`` in 2..n_max, ``m`` in 1..n, a random view and symmetric X.
+
+    Returns the largest entry of ``|C~ - P_m^T (C^T kron C^T) P_n|`` and of
+    ``|C~ svec(X) - svec(C^T X C)|``.
+    """
+    n = int(rng.integers(2, n_max + 1))
+    m = int(rng.integers(1, n + 1))
+    Cm = S.random_projection(n, m, rng)
+    Xr = rng.normal(size=(n, n))
+    Xr = (Xr + Xr.T) / 2
+    Ct = E.ctilde(Cm)
+    kron = E.svec_basis_matrix(m).T @ E.kron_operator(Cm) @ E.svec_basis_matrix(n)
+    return float(np.abs(Ct - kron).max()), float(np.abs(Ct @ E.svec(Xr) - E.svec(E.project(Xr, Cm))).max())
+
+
+def ctilde_identity_study(n_checks: int, rng: np.random.Generator, n_max: int = 8,
+                          n_jobs: int | None = None) -> dict:
+    """``n_checks`` trials of :func:`ctilde_identity_trial` through :func:`projtrack.montecarlo.run`.
+
+    Returns ``count`` and the largest errors ``err_kron`` (C~ against the restricted Kronecker
+    form of eq. 6) and ``err_proj`` (C~ svec(X) against svec(C^T X C), eq. 10) over the checks.
+    """
+    n_checks = as_int(n_checks, "n_checks", minimum=1)
+    rng = as_rng(rng)
+    n_max = as_int(n_max, "n_max", minimum=2)
+    errs = np.array(montecarlo.run(ctilde_identity_trial, n_checks, rng, n_max, n_jobs=n_jobs))
+    return {"count": len(errs), "err_kron": float(errs[:, 0].max()), "err_proj": float(errs[:, 1].max())}
