@@ -144,6 +144,34 @@ def test_accuracy_sweep_rows_raw_and_within_counts():
         ex.accuracy_sweep([0.0], [0.25])
 
 
+def test_accuracy_target_one_trial_and_its_checks():
+    r = ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25)
+    assert set(r) == {"errors", "confirmed", "fallback", "n_seen"}
+    assert r["errors"].shape == (4,) and 1 <= r["n_seen"] <= 20
+    assert abs(r["errors"][1]) < 4.0  # across the track: within the strip
+    assert np.array_equal(r["errors"], ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25)["errors"])
+    with pytest.raises(TypeError, match="rng"):
+        ex.accuracy_target(5, 10.0, 0.25)
+    with pytest.raises(ValueError, match="theta_range_deg"):
+        ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25, theta_range_deg=(180.0, 90.0))
+    with pytest.raises(ValueError, match="frames"):
+        ex.accuracy_target(np.random.default_rng(5), 10.0, 4.0)
+    with pytest.raises(ValueError, match="n_targets"):
+        ex.accuracy_experiment(np.random.default_rng(0), 10.0, 0.25, n_targets=0)
+
+
+def test_accuracy_experiment_same_result_serial_and_parallel():
+    kw = dict(n_targets=4, return_errors=True)
+    a = ex.accuracy_experiment(np.random.default_rng(11), 20.0, 0.25, n_jobs=1, **kw)
+    b = ex.accuracy_experiment(np.random.default_rng(11), 20.0, 0.25, n_jobs=2, **kw)
+    assert np.array_equal(a["errors"], b["errors"]) and np.array_equal(a["n_seen"], b["n_seen"])
+    assert {k: v for k, v in a.items() if k not in ("errors", "n_seen")} == \
+        {k: v for k, v in b.items() if k not in ("errors", "n_seen")}
+    # target i is trial i: its errors are those of the i-th child generator
+    child = np.random.default_rng(11).spawn(4)[2]
+    assert np.array_equal(a["errors"][2], ex.accuracy_target(child, 20.0, 0.25)["errors"])
+
+
 def test_exact_hough_point_voting_equals_the_voting_transform():
     img = ex.composite_image(np.random.default_rng(3))
     assert img.shape == (256, 256) and img.dtype == bool and img.sum() > 21

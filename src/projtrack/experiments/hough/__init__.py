@@ -16,7 +16,8 @@
 
 from __future__ import annotations
 
-from projtrack.experiments.hough.accuracy import ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, within_counts
+from projtrack.experiments.hough.accuracy import (ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, accuracy_target,
+                                                  within_counts)
 from projtrack.experiments.hough.continuous import continuous_run, never_detected
 from projtrack.experiments.hough.optical import (OPT_PLANES, SKIMAGE_RULES, composite_image, exact_hough,
                                                  match_peaks, optics_trial, peer_trial, skimage_cells, skimage_trial)
@@ -29,6 +30,7 @@ from projtrack.experiments.hough.thresholded import (noise_plane, noisy_scene, p
 __all__ = [
     "match_lines",
     "evaluate_initiation",
+    "accuracy_target",
     "accuracy_experiment",
     "STOPS",
     "ROUND_VAR",
