@@ -142,3 +142,81 @@ def test_accuracy_sweep_rows_raw_and_within_counts():
         ex.within_counts(raw, table, "no such rule", False, False)
     with pytest.raises(ValueError, match="speeds"):
         ex.accuracy_sweep([0.0], [0.25])
+
+
+def test_accuracy_target_one_trial_and_its_checks():
+    r = ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25)
+    assert set(r) == {"errors", "confirmed", "fallback", "n_seen"}
+    assert r["errors"].shape == (4,) and 1 <= r["n_seen"] <= 20
+    assert abs(r["errors"][1]) < 4.0  # across the track: within the strip
+    assert np.array_equal(r["errors"], ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25)["errors"])
+    with pytest.raises(TypeError, match="rng"):
+        ex.accuracy_target(5, 10.0, 0.25)
+    with pytest.raises(ValueError, match="theta_range_deg"):
+        ex.accuracy_target(np.random.default_rng(5), 10.0, 0.25, theta_range_deg=(180.0, 90.0))
+    with pytest.raises(ValueError, match="frames"):
+        ex.accuracy_target(np.random.default_rng(5), 10.0, 4.0)
+    with pytest.raises(ValueError, match="n_targets"):
+        ex.accuracy_experiment(np.random.default_rng(0), 10.0, 0.25, n_targets=0)
+
+
+def test_accuracy_experiment_same_result_serial_and_parallel():
+    kw = dict(n_targets=4, return_errors=True)
+    a = ex.accuracy_experiment(np.random.default_rng(11), 20.0, 0.25, n_jobs=1, **kw)
+    b = ex.accuracy_experiment(np.random.default_rng(11), 20.0, 0.25, n_jobs=2, **kw)
+    assert np.array_equal(a["errors"], b["errors"]) and np.array_equal(a["n_seen"], b["n_seen"])
+    assert {k: v for k, v in a.items() if k not in ("errors", "n_seen")} == \
+        {k: v for k, v in b.items() if k not in ("errors", "n_seen")}
+    # target i is trial i: its errors are those of the i-th child generator
+    child = np.random.default_rng(11).spawn(4)[2]
+    assert np.array_equal(a["errors"][2], ex.accuracy_target(child, 20.0, 0.25)["errors"])
+
+
+def test_exact_hough_point_voting_equals_the_voting_transform():
+    img = ex.composite_image(np.random.default_rng(3))
+    assert img.shape == (256, 256) and img.dtype == bool and img.sum() > 21
+    H, rhos, thetas = hough.hough_transform_image(img)
+    He, re = ex.exact_hough(img, rhos, thetas)
+    assert np.array_equal(He, H) and np.array_equal(re, rhos)
+    Hs, rs = ex.exact_hough(img, rhos, thetas, shift=1.0, sub=2)
+    assert np.allclose(rs, rhos - 1.0) and abs(Hs.sum() - H.sum()) <= 1e-9 * H.sum() + 1
+    with pytest.raises(ValueError, match="sub"):
+        ex.exact_hough(img, rhos, thetas, sub=0)
+
+
+def test_match_peaks_and_optics_trial():
+    P = hough.detect_peaks
+    H, rhos, thetas = hough.hough_transform_image(ex.composite_image(np.random.default_rng(4)))
+    pk = P(H, rhos, thetas, min_votes=6)
+    assert ex.match_peaks(pk, pk) == len(pk) and ex.match_peaks(pk, []) == 0
+    o = mc_run(ex.optics_trial, 1, np.random.default_rng(4))[0]
+    assert set(o) == {key for key, _ in ex.OPT_PLANES}
+    for ok, k, n, mass in o.values():
+        assert 0 <= k <= n and ok == (mass and k == n)
+    assert o[1][3] and o["shift"][3]  # rotation and shifted bins keep the total votes
+
+
+def test_skimage_cells_differ_only_at_ties_and_peer_trial():
+    img = np.zeros((32, 32), dtype=bool)
+    img[5, 3] = img[20, 17] = img[9, 30] = True
+    cells, diff, ties = ex.skimage_cells(img)
+    assert cells > 0 and 0 <= ties <= diff
+    assert diff == ties
+    rows = ex.peer_trial(np.random.default_rng(6), {"skimage (2, 2, 6 votes)": ex.SKIMAGE_RULES["skimage (2, 2, 6 votes)"]})
+    assert [r[0] for r in rows] == ["ours, printed ratio 3 (floor 6)", "ours, ridge-free ratio 3 (floor 11)",
+                                    "skimage (2, 2, 6 votes)"]
+    assert all(0 <= found <= 6 and false >= 0 for _, found, false in rows)
+    with pytest.raises(TypeError, match="skimage_rules"):
+        ex.peer_trial(np.random.default_rng(6), [("a", {})])
+
+
+def test_noise_plane_and_target_peaks():
+    P = ex.noise_plane(np.random.default_rng(8), n_noise=4, n_frames=3)
+    assert P.sum() == 12 * P.shape[1]  # every point votes once per theta
+    assert ex.noise_plane(np.random.default_rng(8), n_noise=0).sum() == 0
+    out = ex.target_peaks(np.random.default_rng(9), np.zeros_like(P))
+    assert len(out) == 5
+    for r in out:
+        assert r["bias"] == 0 and r["perfect ratio on bias"] >= 5 - 1e-9  # no bias: at least 5 (spills only raise it)
+    with pytest.raises(ValueError, match="window_bias"):
+        ex.target_peaks(np.random.default_rng(9), np.zeros((3, 3)))

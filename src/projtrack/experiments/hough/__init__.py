@@ -6,6 +6,8 @@
   their Monte Carlo trials (counts, why targets are missed, speeds at ``P_D = 0.9``).
 * :mod:`~projtrack.experiments.hough.thresholded`: the plain against the thresholded HT
   on noisy scenes (Figs. 5-6 and the operating curves).
+* :mod:`~projtrack.experiments.hough.optical`: the optical (rotate-and-integrate) HT of Fig. 11
+  against point voting, and our HT and peak rules against skimage's.
 * :mod:`~projtrack.experiments.hough.continuous`: the 120-s run of Fig. 4 in 5-s segments.
 * :mod:`~projtrack.experiments.hough.accuracy`: the Sec. VI accuracy experiment (errors
   of position and velocity against the predicted standard deviations).
@@ -14,16 +16,21 @@
 
 from __future__ import annotations
 
-from projtrack.experiments.hough.accuracy import ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, within_counts
+from projtrack.experiments.hough.accuracy import (ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, accuracy_target,
+                                                  within_counts)
 from projtrack.experiments.hough.continuous import continuous_run, never_detected
+from projtrack.experiments.hough.optical import (OPT_PLANES, SKIMAGE_RULES, composite_image, exact_hough,
+                                                 match_peaks, optics_trial, peer_trial, skimage_cells, skimage_trial)
 from projtrack.experiments.hough.salvo import (SALVO_TIMES, reading_trial, salvo_scene, salvo_trial,
                                                speeds_by_target)
 from projtrack.experiments.hough.scoring import evaluate_initiation, match_lines
-from projtrack.experiments.hough.thresholded import noisy_scene, plain_and_thresholded, roc_trial, rule_counts
+from projtrack.experiments.hough.thresholded import (noise_plane, noisy_scene, plain_and_thresholded, roc_trial,
+                                                     rule_counts, target_peaks)
 
 __all__ = [
     "match_lines",
     "evaluate_initiation",
+    "accuracy_target",
     "accuracy_experiment",
     "STOPS",
     "ROUND_VAR",
@@ -38,6 +45,17 @@ __all__ = [
     "never_detected",
     "noisy_scene",
     "plain_and_thresholded",
+    "noise_plane",
+    "target_peaks",
     "rule_counts",
     "roc_trial",
+    "composite_image",
+    "exact_hough",
+    "match_peaks",
+    "OPT_PLANES",
+    "optics_trial",
+    "skimage_cells",
+    "skimage_trial",
+    "SKIMAGE_RULES",
+    "peer_trial",
 ]

@@ -1,6 +1,7 @@
 """The accuracy experiment of Sec. VI: errors of the track estimates against Eqs. (8)-(13).
 
-:func:`accuracy_experiment` runs one speed and frame time, :func:`accuracy_sweep` the
+:func:`accuracy_target` is one target (one Monte Carlo trial), :func:`accuracy_experiment`
+runs one speed and frame time through :func:`projtrack.montecarlo.run`, :func:`accuracy_sweep` the
 grid of Figs. 7-10 under several stopping rules, :func:`within_counts` counts the
 settings whose experimental standard deviations stay within the predicted ones.
 """
@@ -11,29 +12,86 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_real
+from projtrack import montecarlo
+from projtrack._validation import as_int, as_real, as_rng
 from projtrack.hough import TrackInitiator, detect_peaks, estimate_track, hough_transform, track_covariance
 from projtrack.scenes.boost import frame_times, render_frames, straight_targets
 
-__all__ = ["accuracy_experiment", "STOPS", "ROUND_VAR", "accuracy_sweep", "within_counts"]
+__all__ = ["accuracy_target", "accuracy_experiment", "STOPS", "ROUND_VAR", "accuracy_sweep", "within_counts"]
+
+
+def accuracy_target(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
+                    jitter_sigma: float = 0.5, drho: float = 2.0, shape: tuple[int, int] = (256, 256),
+                    stop_fraction: float | None = None, dx_schedule: str = "double",
+                    theta_range_deg: tuple[float, float] = (90.0, 180.0)) -> dict[str, object]:
+    """One target of the accuracy experiment of Sec. VI (one Monte Carlo trial).
+
+    A straight constant-velocity target (:func:`projtrack.scenes.boost.straight_targets`)
+    whose track normal is drawn uniformly over ``theta_range_deg`` (the paper's "angles
+    evenly distributed between 90 and 180 degrees") and whose start is uniform in the
+    lower-left quadrant is imaged alone, without false pixels, over
+    ``N_p = round(total_time / frame_time)`` frames with jitter ``jitter_sigma``; its HT's
+    strongest peak (the HT maximum if the detector finds none) is taken as its line, and
+    :func:`~projtrack.hough.estimate_track` gives the state at the last detected frame,
+    with ``stop_fraction`` and ``dx_schedule`` passed on. Only ``rng`` is used for
+    randomness, so the trial runs through :func:`projtrack.montecarlo.run`.
+
+    Returns
+    -------
+    dict
+        ``errors``: the errors in ``x'``, ``y'``, ``v_x'``, ``v_y'`` (along and across the
+        true track), ``confirmed``: whether the 75 % rule confirmed the track,
+        ``fallback``: whether the HT gave no peak, ``n_seen``: the number of frames in
+        which the target was detected.
+    """
+    rng = as_rng(rng)
+    T = as_real(frame_time, "frame_time", 0, low_open=True)
+    total_time = as_real(total_time, "total_time", 0, low_open=True)
+    lo, hi = (as_real(v, "theta_range_deg") for v in theta_range_deg)
+    if lo > hi:
+        raise ValueError(f"theta_range_deg must be a (low, high) pair with low <= high, got {theta_range_deg!r}")
+    n_p = int(round(total_time / T))
+    if n_p < 2:
+        raise ValueError(f"total_time / frame_time must give at least 2 frames, got {total_time / T:g}")
+    times = frame_times(n_p, T)
+    th_deg = float(rng.uniform(lo, hi))
+    tr = straight_targets(1, speed, shape=shape, rng=rng, theta_range_deg=(th_deg, th_deg))[0]
+    fr = render_frames([tr], times, rng, shape=shape, jitter_sigma=jitter_sigma, n_noise=0)
+    pts = fr.composite()
+    H, rhos, thetas = hough_transform(pts, shape, drho)
+    peaks = detect_peaks(H, rhos, thetas, min_votes=TrackInitiator.default_min_votes(n_p))
+    if peaks:
+        rho, th = peaks[0].rho, peaks[0].theta_deg
+    else:
+        i, j = np.unravel_index(np.argmax(H), H.shape)
+        rho, th = float(rhos[i]), float(thetas[j])
+    v_true = tr.velocity(times[-1])
+    d_true = v_true / np.linalg.norm(v_true)
+    est = estimate_track(pts, shape, rho, th, frame_time=T, n_frames=n_p, drho=drho,
+                         jitter_sigma=jitter_sigma, heading_hint=d_true, stop_fraction=stop_fraction,
+                         dx_schedule=dx_schedule)
+    seen = [k for k in range(n_p) if len(fr.points[k])]
+    p_true = fr.truth[seen[-1], 0]
+    n_true = np.array([-d_true[1], d_true[0]])
+    e = est.position - p_true
+    ev = est.velocity - v_true
+    return {"errors": np.array([e @ d_true, e @ n_true, ev @ d_true, ev @ n_true]),
+            "confirmed": bool(est.projection.confirmed), "fallback": not peaks, "n_seen": len(seen)}
 
 
 def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
                         n_targets: int = 50, jitter_sigma: float = 0.5, drho: float = 2.0,
                         shape: tuple[int, int] = (256, 256), return_errors: bool = False,
-                        stop_fraction: float | None = None, dx_schedule: str = "double") -> dict[str, object]:
+                        stop_fraction: float | None = None, dx_schedule: str = "double",
+                        n_jobs: int | None = None) -> dict[str, object]:
     """The accuracy experiment of Sec. VI for one speed and frame time.
 
-    ``n_targets`` straight constant-velocity targets
-    (:func:`projtrack.scenes.boost.straight_targets`) are imaged alone, without false
-    pixels, over ``N_p = round(total_time / frame_time)`` frames with jitter
-    ``jitter_sigma``; each gets its own HT, the strongest peak (the HT maximum if the
-    detector finds none) is taken as its line, and :func:`estimate_track` gives the
-    state at the last detected frame. Errors are resolved along (``x'``) and across
-    (``y'``) the true track. ``dx_schedule`` (``"double"``, the paper's, or ``"step"``) and
-    ``stop_fraction`` are passed to :func:`estimate_track`
-    (``None``: the paper's 75 % stopping rule; ``1``: keep doubling ``dx'`` until one
-    run holds every point).
+    ``n_targets`` independent trials of :func:`accuracy_target` (one straight target each,
+    imaged alone) through :func:`projtrack.montecarlo.run`: target ``i`` uses the ``i``-th
+    child generator of ``rng``, so the result does not depend on ``n_jobs``.
+    ``dx_schedule`` (``"double"``, the paper's, or ``"step"``) and ``stop_fraction`` are
+    passed to :func:`~projtrack.hough.estimate_track` (``None``: the paper's 75 % stopping
+    rule; ``1``: keep doubling ``dx'`` until one run holds every point).
 
     Returns
     -------
@@ -47,47 +105,26 @@ def accuracy_experiment(rng: np.random.Generator, speed: float, frame_time: floa
         ``(n_targets, 4)`` array of errors in ``x'``, ``y'``, ``v_x'``, ``v_y'``, and
         ``n_seen``, the number of frames in which each target was detected.
     """
+    rng = as_rng(rng)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
+    n_targets = as_int(n_targets, "n_targets", minimum=1)
+    trials = montecarlo.run(accuracy_target, n_targets, rng, speed, T, total_time=total_time,
+                            jitter_sigma=jitter_sigma, drho=drho, shape=shape, stop_fraction=stop_fraction,
+                            dx_schedule=dx_schedule, n_jobs=n_jobs)
     n_p = int(round(total_time / T))
-    times = frame_times(n_p, T)
-    targets = straight_targets(n_targets, speed, shape=shape, rng=rng)
-    errs, n_conf, n_fb, seen_counts = [], 0, 0, []
-    h, w = shape
-    for tr in targets:
-        fr = render_frames([tr], times, rng, shape=shape, jitter_sigma=jitter_sigma, n_noise=0)
-        pts = fr.composite()
-        H, rhos, thetas = hough_transform(pts, shape, drho)
-        peaks = detect_peaks(H, rhos, thetas, min_votes=TrackInitiator.default_min_votes(n_p))
-        if peaks:
-            rho, th = peaks[0].rho, peaks[0].theta_deg
-        else:
-            n_fb += 1
-            i, j = np.unravel_index(np.argmax(H), H.shape)
-            rho, th = float(rhos[i]), float(thetas[j])
-        v_true = tr.velocity(times[-1])
-        d_true = v_true / np.linalg.norm(v_true)
-        est = estimate_track(pts, shape, rho, th, frame_time=T, n_frames=n_p, drho=drho,
-                             jitter_sigma=jitter_sigma, heading_hint=d_true, stop_fraction=stop_fraction,
-                             dx_schedule=dx_schedule)
-        n_conf += int(est.projection.confirmed)
-        seen = [k for k in range(n_p) if len(fr.points[k])]
-        seen_counts.append(len(seen))
-        p_true = fr.truth[seen[-1], 0]
-        n_true = np.array([-d_true[1], d_true[0]])
-        e = est.position - p_true
-        ev = est.velocity - v_true
-        errs.append((e @ d_true, e @ n_true, ev @ d_true, ev @ n_true))
-    E = np.array(errs)
+    E = np.array([t["errors"] for t in trials])
+    seen_counts = np.array([t["n_seen"] for t in trials])
     std = E.std(axis=0, ddof=1)
     pred = track_covariance(speed, T, n_p, drho=drho, jitter_sigma=jitter_sigma, total_time=total_time)
     out = {"speed": float(speed), "T": T, "n_p": n_p,
-            "std_x": float(std[0]), "std_y": float(std[1]), "std_vx": float(std[2]), "std_vy": float(std[3]),
-            "pred_x": float(np.sqrt(pred["var_x"])), "pred_y": float(np.sqrt(pred["var_y"])),
-            "pred_vx": float(np.sqrt(pred["var_vx"])), "pred_vy": float(np.sqrt(pred["var_vy"])),
-            "n_confirmed": n_conf, "n_fallback": n_fb, "n_left": int(np.sum(np.array(seen_counts) < n_p))}
+           "std_x": float(std[0]), "std_y": float(std[1]), "std_vx": float(std[2]), "std_vy": float(std[3]),
+           "pred_x": float(np.sqrt(pred["var_x"])), "pred_y": float(np.sqrt(pred["var_y"])),
+           "pred_vx": float(np.sqrt(pred["var_vx"])), "pred_vy": float(np.sqrt(pred["var_vy"])),
+           "n_confirmed": int(sum(t["confirmed"] for t in trials)),
+           "n_fallback": int(sum(t["fallback"] for t in trials)), "n_left": int(np.sum(seen_counts < n_p))}
     if return_errors:
         out["errors"] = E
-        out["n_seen"] = np.array(seen_counts)
+        out["n_seen"] = seen_counts
     return out
 
 
@@ -101,11 +138,12 @@ ROUND_VAR = 1.0 / 12.0
 def accuracy_sweep(speeds: Sequence[float], frame_times: Sequence[float],
                    stops: Sequence[tuple[float | None, str, str]] = STOPS, *, seed: int = 1988,
                    jitter_sigma: float = 0.5, n_targets: int = 50,
-                   total_time: float = 5.0) -> tuple[list[dict[str, object]], dict[tuple, tuple]]:
+                   total_time: float = 5.0, n_jobs: int | None = None) -> tuple[list[dict[str, object]], dict[tuple, tuple]]:
     """:func:`accuracy_experiment` at every stopping rule, speed and frame time (Figs. 7-10).
 
     Each setting draws its targets from ``np.random.default_rng([seed, int(speed),
-    round(1000 T)])`` (the same targets under every stopping rule). Besides the columns of
+    round(1000 T)])`` (the same targets under every stopping rule; ``n_jobs`` worker
+    processes, which do not change the result). Besides the columns of
     :func:`accuracy_experiment` each row holds ``stop`` (the rule's name), the robust
     (``1.4826`` MAD) standard deviations ``rob_x``, ``rob_y``, ``rob_vx``, ``rob_vy``, and
     ``predr_x``, ``predr_vx``: Eqs. (8) and (12) with the pixel-rounding variance
@@ -130,7 +168,8 @@ def accuracy_sweep(speeds: Sequence[float], frame_times: Sequence[float],
             for T in frame_times:
                 r = accuracy_experiment(np.random.default_rng([seed, int(v), int(round(T * 1000))]), v, T,
                                         total_time=total_time, n_targets=n_targets, jitter_sigma=jitter_sigma,
-                                        return_errors=True, stop_fraction=stop, dx_schedule=schedule)
+                                        return_errors=True, stop_fraction=stop, dx_schedule=schedule,
+                                        n_jobs=n_jobs)
                 E, seen = r.pop("errors"), r.pop("n_seen")
                 raw[(stop_name, v, T)] = (E, seen == r["n_p"])
                 mad = 1.4826 * np.median(np.abs(E - np.median(E, axis=0)), axis=0)

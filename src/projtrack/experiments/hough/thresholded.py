@@ -2,8 +2,10 @@
 
 :func:`noisy_scene` draws a scene over the 21 frames of
 ``SALVO_TIMES``, :func:`plain_and_thresholded`
-runs both initiators on it, :func:`rule_counts` and :func:`roc_trial` are the Monte Carlo
-trials of the chapter's tables (generator first, for ``projtrack.montecarlo.run``).
+runs both initiators on it; :func:`noise_plane` (the bias of a noise-only plane),
+:func:`target_peaks` (how the targets' peaks stand against that bias), :func:`rule_counts`
+and :func:`roc_trial` are the Monte Carlo trials of the chapter's tables (generator
+first, for ``projtrack.montecarlo.run``).
 """
 
 from __future__ import annotations
@@ -12,13 +14,13 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from projtrack._validation import as_int, as_real, as_rng
+from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.experiments.hough.salvo import SALVO_TIMES
 from projtrack.experiments.hough.scoring import evaluate_initiation
-from projtrack.hough import TrackInitiator
+from projtrack.hough import TrackInitiator, hough_transform, line_through, local_average
 from projtrack.scenes.boost import BoostTrajectory, Frames, in_view_launches, render_frames
 
-__all__ = ["noisy_scene", "plain_and_thresholded", "rule_counts", "roc_trial"]
+__all__ = ["noisy_scene", "plain_and_thresholded", "noise_plane", "target_peaks", "rule_counts", "roc_trial"]
 
 
 def noisy_scene(rng: np.random.Generator, n_noise: int = 20,
@@ -70,3 +72,46 @@ def roc_trial(rng: np.random.Generator, n_noise: int, ratio: float) -> dict[str,
     tr, fr = noisy_scene(rng, n_noise=n_noise)
     return {name: (r["n_found"] / 5, r["n_false_confirmed"], r["n_false_lines"])
             for name, (_, r) in plain_and_thresholded(fr, tr, ratio).items()}
+
+
+def noise_plane(rng: np.random.Generator, n_noise: int = 20, n_frames: int = 21) -> np.ndarray:
+    """The HT plane (``drho = 2``, 1 deg) of ``n_noise`` uniform false pixels in each of
+    ``n_frames`` 256 x 256 frames and nothing else: one draw of the noise-only bias."""
+    rng = as_rng(rng)
+    n_noise = as_int(n_noise, "n_noise", minimum=0)
+    n_frames = as_int(n_frames, "n_frames", minimum=1)
+    frames = [np.column_stack([rng.integers(0, 256, n_noise), rng.integers(0, 256, n_noise)]) for _ in range(n_frames)]
+    return hough_transform(np.concatenate(frames).astype(float), (256, 256), allow_empty=True)[0]
+
+
+def target_peaks(rng: np.random.Generator, window_bias: object) -> list[dict[str, object]]:
+    """How each target's peak of one :func:`noisy_scene` stands against the noise bias.
+
+    ``window_bias`` is the mean noise-only plane averaged over the 5 x 5 window (the bias
+    of the window mean, same axes as :func:`~projtrack.hough.hough_transform`'s default).
+    For every target returns ``|rho| <= 64`` (whether its line lies in the central plane),
+    ``spills`` (whether its noise-free votes, projected onto the line, spill out of the
+    window), ``bias`` (the window bias at its cell), ``perfect ratio on bias`` (``N``
+    votes over the window mean of the perfect line plus the bias) and ``real best ratio``
+    (the best peak-to-window ratio of the real plane within one cell of the line).
+    """
+    tr, frames = noisy_scene(rng)
+    H, rh, th = hough_transform(frames.composite(), frames.shape)
+    B = as_array(window_bias, "window_bias", shape=H.shape)
+    A_real = local_average(H, 5, rhos=rh, thetas_deg=th)
+    R = H / np.where(A_real > 0, A_real, 1)
+    out = []
+    for t in range(frames.truth.shape[1]):
+        pts = frames.truth[:, t]
+        rho, theta = line_through(pts, frames.shape)
+        n = np.array([np.cos(np.deg2rad(theta)), np.sin(np.deg2rad(theta))])
+        proj = np.clip(pts - ((pts - 128.0) @ n - rho)[:, None] * n, 0, 255.999)
+        Hp, _, _ = hough_transform(proj, frames.shape)
+        ii, j = int(np.argmin(np.abs(rh - rho))), int(round(theta)) % 180  # the line's own cell
+        A = local_average(Hp, 5, rhos=rh, thetas_deg=th)[ii, j]  # its votes in the window / 25
+        N = len(pts)
+        cols = [(j + d) % 180 for d in (-1, 0, 1)]
+        out.append({"|rho| <= 64": abs(rho) <= 64, "spills": 25 * A < 5 * N - 0.5, "bias": B[ii, j],
+                    "perfect ratio on bias": N / (A + B[ii, j]),
+                    "real best ratio": float(R[max(ii - 1, 0):ii + 2][:, cols].max())})
+    return out
