@@ -202,3 +202,141 @@ def test_sensitivity_cells_equal_single_cells_in_any_grouping():
         sensitivity_cells([(0.0, 256, "ball", {})], 2, 1)
     with pytest.raises(TypeError, match="options"):
         sensitivity_cells([(0.0, 256, "ball", None, 0)], 2, 1)
+
+
+# ----------------------------------------------------------------------------- comparison with the references
+from projtrack.experiments.neuralnet import (METHODS, accuracy, comparison_cells, comparison_trial,  # noqa: E402
+                                             noise_sweep, size_sweep)
+
+
+def _concat(parts):
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+
+def test_comparison_cells_equal_trials_run_one_by_one():
+    cells = [(0.0, 3, 41), (5.0, 4, [42, 1]), (2.5, 3, 43)]
+    got = comparison_cells(cells, 2, 2)
+    for (n, nt, seed), res in zip(cells, got):
+        want = _concat(montecarlo.run(comparison_trial, 2, np.random.default_rng(seed), 2, n, nt))
+        assert set(res) == set(want)
+        for k in want:
+            if k != "dataset":
+                np.testing.assert_array_equal(res[k], want[k])
+        np.testing.assert_array_equal(res["dataset"], [0, 0, 1, 1])
+    with pytest.raises(ValueError, match="cells"):
+        comparison_cells([(0.0, 4)], 1, 1)
+    with pytest.raises(TypeError, match="cells"):
+        comparison_cells([], 1, 1)
+    with pytest.raises(ValueError, match="n_datasets"):
+        comparison_cells([(0.0, 4, 0)], 0, 1)
+
+
+def test_comparison_cells_do_not_depend_on_n_jobs():
+    cells = [(5.0, 3, 7), (0.0, 3, 8)]
+    serial = comparison_cells(cells, 3, 1, n_jobs=1)
+    parallel = comparison_cells(cells, 3, 1, n_jobs=2)
+    for a, b in zip(serial, parallel):
+        assert set(a) == set(b)
+        for k in a:
+            np.testing.assert_array_equal(a[k], b[k])
+
+
+def test_accuracy_averages_the_net_over_data_sets():
+    res = {"dataset": np.array([0, 0, 0, 0, 1, 1]), "correct": np.array([1, 1, 1, 0, 0, 0], bool),
+           "optimal_correct": np.array([1.0, 0.0]), "cd_correct": np.array([True, True]),
+           "greedy_correct": np.array([False, True]), "nn_correct": np.array([False, False])}
+    acc = accuracy(res)
+    assert list(acc) == list(METHODS)
+    assert acc["net"] == pytest.approx(37.5)        # mean of 75% and 0%, not 3 of 6 runs
+    assert (acc["optimum"], acc["coordinate descent"], acc["greedy on eq. (7)"], acc["nearest neighbour"]) == (
+        50.0, 100.0, 50.0, 0.0)
+    assert np.isnan(accuracy({**res, "optimal_correct": np.array([np.nan, 1.0])})["optimum"])
+    with pytest.raises(ValueError, match="reference"):
+        accuracy({"dataset": res["dataset"], "correct": res["correct"]})
+    with pytest.raises(TypeError, match="res"):
+        accuracy([res])
+
+
+def test_noise_and_size_sweeps_are_rows_of_their_cells():
+    rows = noise_sweep([0.0, 5.0], 2, 1, seed=90)
+    assert [r["noise %"] for r in rows] == [0.0, 5.0]
+    for i, r in enumerate(rows):
+        res = comparison_cells([([0.0, 5.0][i], 4, 90 + i)], 2, 1)[0]
+        assert r["net sweeps per run"] == float(res["iterations"].mean())
+        assert r["net"] == accuracy(res)["net"]
+        assert 0 <= r["optimum cost <= true cost %"] <= 100
+    size_rows = size_sweep([3], [0.0, 5.0], 2, 1, seed=95)
+    assert [(r["targets"], r["noise %"]) for r in size_rows] == [(3, 0.0), (3, 5.0)]
+    res = comparison_cells([(5.0, 3, 96)], 2, 1)[0]
+    assert size_rows[1]["net converged %"] == 100 * float(res["converged"].mean())
+    with pytest.raises(ValueError, match="10 noise levels"):
+        size_sweep([3], [0.0] * 11, 1, 1, seed=0)
+    with pytest.raises(TypeError, match="noise_levels"):
+        noise_sweep(0.0, 1, 1, seed=0)
+
+
+# ----------------------------------------------------------------------------- degraded data
+from projtrack.experiments.neuralnet import degraded_study, degraded_trial, draw_degraded  # noqa: E402
+
+
+def test_degraded_study_equals_trials_run_one_by_one():
+    rows = degraded_study([(1, 0), (0, 1)], 2, 2, seed=12)
+    rng = np.random.default_rng(12)
+    for row, (n_sp, n_mi) in zip(rows, [(1, 0), (0, 1)]):
+        trials = montecarlo.run(degraded_trial, 2, rng, n_sp, n_mi, 2)
+        assert row["intended state is a fixed point %"] == 100 * sum(f for f, _ in trials) / 2
+        assert row["net runs correct %"] == 100 * sum(k for _, k in trials) / 4
+        assert (row["spurious per frame"], row["missing detections"]) == (n_sp, n_mi)
+    d = draw_degraded(np.random.default_rng(1), 1, 0, 3)
+    assert d.D.shape == (3, 5, 5, 5) and d.X0.shape == (3, 4, 5, 5) and d.labels.shape == (5, 5)
+    assert nn.is_correct_assignment(d.intended, d.labels)
+    with pytest.raises(ValueError, match="condition"):
+        degraded_study([(1,)], 1, 1, seed=0)
+    with pytest.raises(ValueError, match="n_starts"):
+        draw_degraded(np.random.default_rng(0), 0, 0, 0)
+
+
+def test_direct_check_trial_draws_its_own_data_set():
+    from projtrack.experiments.neuralnet import direct_check_trial
+    m, same, fixed = direct_check_trial(np.random.default_rng(6100), 0.0, 256)
+    scene = make_tracks(np.random.default_rng(6100), 4, 5, noise_percent=0.0)
+    assert (m, same, fixed) == bound_direct_check(scene, 256)
+
+
+# ----------------------------------------------------------------------------- the Table 1 criterion
+from projtrack.experiments.neuralnet import fmt_p, k_range, p_row, p_table, rate_ci  # noqa: E402
+
+
+def test_rate_ci_is_the_exact_interval():
+    lo, hi = rate_ci(0, 10)
+    assert lo == 0.0 and hi == pytest.approx(1 - 0.025 ** 0.1)
+    lo, hi = rate_ci(10, 10)
+    assert hi == 1.0 and lo == pytest.approx(0.025 ** 0.1)
+    with pytest.raises(ValueError, match="k"):
+        rate_ci(11, 10)
+    with pytest.raises(ValueError, match="n"):
+        rate_ci(0, 0)
+
+
+def test_k_range_p_row_and_p_table():
+    assert k_range(0.0, 0.0) == (0, 0) and k_range(1.0, 1.0) == (10, 10)
+    lo, hi = k_range(0.5, 0.5)
+    assert (lo, hi) == (2, 8)
+    assert p_row(0.9, 10) == pytest.approx(0.9 ** 10)
+    assert p_row(0.3, 0) == pytest.approx(1.0)
+    # no wrong stops in ten runs and at least k successes
+    assert p_row(0.5, 0, wrong=0.1) == pytest.approx(0.9 ** 10)
+    assert p_row(0.5, 3, wrong=1.0) == 0.0
+    assert p_table([0.9, 0.9], [10, 9]) == pytest.approx(p_row(0.9, 10) * p_row(0.9, 9))
+    assert p_table([1.0] * 4, [10, 10, 9, 8], [0.0] * 4) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="rows"):
+        p_table([0.9], [10, 9])
+    with pytest.raises(ValueError, match="k_range|p_hi"):
+        k_range(0.6, 0.5)
+    with pytest.raises(ValueError, match="p"):
+        p_row(1.5, 3)
+
+
+def test_fmt_p_bounds_tiny_probabilities():
+    assert fmt_p(1e-13) == "< 1e-12" and fmt_p(1e-13, eq=True) == "< 1e-12"
+    assert fmt_p(0.0123) == "0.012" and fmt_p(0.0123, eq=True) == "= 0.012"

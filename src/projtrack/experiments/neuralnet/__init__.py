@@ -4,12 +4,22 @@ Modules (everything public is re-exported here):
 
 * :mod:`~projtrack.experiments.neuralnet.table1`: the Sec. VI simulation (data sets, net starts,
   success and the reference solvers' scores);
+* :mod:`~projtrack.experiments.neuralnet.criterion`: the exact binomial criterion that judges a
+  ten-run table against the paper's Table 1;
 * :mod:`~projtrack.experiments.neuralnet.studies`: the chapter's Monte Carlo studies (Table 1 at
-  several noise levels, readings of the paper, Fig. 5 runs, the fixed-point bound).
+  several noise levels, readings of the paper, Fig. 5 runs, the fixed-point bound);
+* :mod:`~projtrack.experiments.neuralnet.comparison`: the net against the reference solvers of the
+  same cost, against noise and against the number of targets;
+* :mod:`~projtrack.experiments.neuralnet.degraded`: the net on data with spurious measurements and
+  missing detections.
 """
 
-from .studies import (TABLE1_KEYS, bound_direct_check, bound_trial, evolution_trial, fixed_point_bound,
-                      sensitivity_cell, sensitivity_cells, sensitivity_trial, table1_study, table1_trial, truth_index)
+from .comparison import METHODS, accuracy, comparison_cells, comparison_trial, noise_sweep, size_sweep
+from .criterion import fmt_p, k_range, p_row, p_table, rate_ci
+from .degraded import DegradedDraw, degraded_study, degraded_trial, draw_degraded
+from .studies import (TABLE1_KEYS, bound_direct_check, bound_trial, direct_check_trial, evolution_trial,
+                      fixed_point_bound, sensitivity_cell, sensitivity_cells, sensitivity_trial, table1_study,
+                      table1_trial, truth_index)
 from .table1 import SimulationDraw, draw_simulation, run_draws, score_simulation, simulate, simulate_trials
 
 __all__ = [
@@ -30,4 +40,20 @@ __all__ = [
     "bound_trial",
     "fixed_point_bound",
     "bound_direct_check",
+    "direct_check_trial",
+    "rate_ci",
+    "k_range",
+    "p_row",
+    "p_table",
+    "fmt_p",
+    "METHODS",
+    "comparison_trial",
+    "comparison_cells",
+    "accuracy",
+    "noise_sweep",
+    "size_sweep",
+    "DegradedDraw",
+    "draw_degraded",
+    "degraded_trial",
+    "degraded_study",
 ]

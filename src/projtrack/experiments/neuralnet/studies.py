@@ -17,7 +17,7 @@ same results as running the trial functions one by one:
   (an assignment is a fixed point when that is below :func:`projtrack.neuralnet.fixed_point_limit`);
 * :func:`truth_index`, :func:`bound_direct_check`: the true assignment in the enumeration of
   :func:`projtrack.neuralnet.assignment_max_sums`, and the bound against a direct evaluation
-  of every neuron.
+  of every neuron (:func:`direct_check_trial` on a data set of its own).
 """
 
 from __future__ import annotations
@@ -47,6 +47,7 @@ __all__ = [
     "bound_trial",
     "fixed_point_bound",
     "bound_direct_check",
+    "direct_check_trial",
 ]
 
 #: Per-run results of :func:`simulate` kept by :func:`table1_study`.
@@ -293,3 +294,9 @@ def bound_direct_check(scene: TrackScene, unit: float) -> tuple[int, int, int]:
     direct = is_fixed_point(X, D)
     by_bound = M[p2][tuple(rest.T)] < fixed_point_limit()
     return m, int((direct == by_bound).sum()), int(direct.sum())
+
+
+def direct_check_trial(rng: np.random.Generator, noise_percent: float, unit: float) -> tuple[int, int, int]:
+    """:func:`bound_direct_check` on a data set of its own (four targets, five frames) drawn from ``rng``."""
+    scene = make_tracks(rng, 4, 5, noise_percent=noise_percent)
+    return bound_direct_check(scene, unit)
