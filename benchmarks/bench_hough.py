@@ -15,11 +15,10 @@ Run: ``python benchmarks/bench_hough.py`` (best of a few repeats, < 60 s).
 
 from __future__ import annotations
 
-import os
-from contextlib import contextmanager
 
 import numpy as np
 
+from projtrack._numba import numpy_only
 from projtrack.hough import _kernel as _fast_hough
 from projtrack.hough import (TrackInitiator, detect_peaks, estimate_track, hough_transform,
                              hough_transform_image, rotate_integrate_hough)
@@ -59,20 +58,6 @@ def bench_transform():
     for name, t, note in rows:
         print(f"{name:45s} {1e3 * t:10.3f} {t / base:17.2f}  {note}")
     print(f"compiled / numpy path (same votes): {paper_t / numpy_t:.2f}x")
-
-
-@contextmanager
-def numpy_only():
-    """Run the numpy path of the voting (PROJTRACK_NO_NUMBA=1) inside the block."""
-    old = os.environ.get("PROJTRACK_NO_NUMBA")
-    os.environ["PROJTRACK_NO_NUMBA"] = "1"
-    try:
-        yield
-    finally:
-        if old is None:
-            del os.environ["PROJTRACK_NO_NUMBA"]
-        else:
-            os.environ["PROJTRACK_NO_NUMBA"] = old
 
 
 def straight_scene(rng, n_targets, times):

@@ -18,32 +18,20 @@ The ``cos``/``sin`` tables are computed once per set of angles and cached.
 
 from __future__ import annotations
 
-import importlib.util
-import os
 from functools import lru_cache
-from typing import Any
 
 import numpy as np
 
+from projtrack import _numba
+
 __all__ = ["vote", "vote_numpy", "numba_enabled"]
 
-# numba is optional, and imported only when a kernel is first compiled (it takes a second)
-_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
-_numba: Any = None
-
-
-def _import_numba() -> Any:
-    global _numba
-    if _numba is None:
-        import numba
-
-        _numba = numba
-    return _numba
+_HAVE_NUMBA = _numba.HAVE_NUMBA
 
 
 def numba_enabled() -> bool:
     """True when the compiled kernel is used: numba importable and ``PROJTRACK_NO_NUMBA != 1``."""
-    return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
+    return _HAVE_NUMBA and _numba.switched_on()
 
 
 @lru_cache(maxsize=64)
@@ -88,7 +76,7 @@ def _get_kernel():
     """The compiled loop (compiled on first use; cached on disk where numba can write)."""
     global _kernel
     if _kernel is None:
-        @_import_numba().njit(cache=True, nogil=True)
+        @_numba.import_numba().njit(cache=True, nogil=True)
         def kernel(x, y, cx, cy, c, s, rho0, drho, pow2, weights, acc):  # pragma: no cover - compiled
             # angle by angle (the inner loops over the points vectorize); every cell still
             # receives its votes in the order of the points
