@@ -85,7 +85,7 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
     w0 = w[0]
     w1 = w[1]
     for ch in range(c0, _CHUNKS, cstep):
-        for h in range(ch, rows, _CHUNKS):
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
             if pc[h] > i + 1:
                 fo[:] = 0.0
@@ -106,8 +106,10 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
                     continue
                 st = 1 << k
                 for base in range(0, B, 2 * st):
+                    src = fi[base:base + st]  # views: the inner loop vectorizes
+                    dst = fo[base + st:base + 2 * st]
                     for j in range(st):
-                        fo[base + st + j] += wk * fi[base + j]
+                        dst[j] += wk * src[j]
             # the high bits: the blocks without one of them, two source blocks per pass
             pend = -1
             for b in range(H):
@@ -144,7 +146,7 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
     for ch in range(c0, _CHUNKS, cstep):
         for k in range(n + 1):
             part[ch, k] = 0.0
-        for h in range(ch, rows, _CHUNKS):
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             if pc[h] > i:
                 continue
             fi = Fi[h * B:(h + 1) * B]
@@ -178,10 +180,13 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
                 st = 1 << k
                 acc = 0.0
                 for base in range(0, B, 2 * st):
+                    src = gn[base + st:base + 2 * st]  # views: the inner loop vectorizes
+                    dst = go[base:base + st]
+                    f = fi[base:base + st]
                     for j in range(st):
-                        g = gn[base + st + j]
-                        go[base + j] += wk * g
-                        acc += fi[base + j] * g
+                        g = src[j]
+                        dst[j] += wk * g
+                        acc += f[j] * g
                 part[ch, k] += acc
             # the high bits: the blocks with one more of them, two source blocks per pass
             pend = -1
@@ -229,7 +234,7 @@ def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
     for ch in range(c0, _CHUNKS, cstep):
         for k in range(n + 1):
             part[ch, k] = 0.0
-        for h in range(ch, rows, _CHUNKS):
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             o = h * B
             tot = 0.0
             for l in range(B):
