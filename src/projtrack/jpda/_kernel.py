@@ -84,6 +84,7 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
     H = w.shape[0] - L
     w0 = w[0]
     w1 = w[1]
+    srcs = np.empty(max(H, 1), dtype=np.int64)
     for ch in range(c0, _CHUNKS, cstep):
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
@@ -110,28 +111,46 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
                     dst = fo[base + st:base + 2 * st]
                     for j in range(st):
                         dst[j] += wk * src[j]
-            # the high bits: the blocks without one of them, two source blocks per pass
-            pend = -1
+            # the high bits: the blocks without one of them, four source blocks per pass
+            # (fewer read-modify-write passes over the output block)
+            ns = 0
             for b in range(H):
                 if (h >> b) & 1 and w[L + b] != 0.0:
-                    if pend < 0:
-                        pend = b
-                        continue
-                    sa = (h ^ (1 << pend)) * B
-                    sb = (h ^ (1 << b)) * B
-                    wa = w[L + pend]
-                    wb = w[L + b]
-                    src_a = Fi[sa:sa + B]
-                    src_b = Fi[sb:sb + B]
-                    for l in range(B):
-                        fo[l] += wa * src_a[l] + wb * src_b[l]
-                    pend = -1
-            if pend >= 0:
-                sa = (h ^ (1 << pend)) * B
-                wa = w[L + pend]
-                src_a = Fi[sa:sa + B]
+                    srcs[ns] = b
+                    ns += 1
+            q = 0
+            while q + 4 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                b2 = srcs[q + 2]
+                b3 = srcs[q + 3]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                wc = w[L + b2]
+                wd = w[L + b3]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                sb = Fi[(h ^ (1 << b1)) * B:(h ^ (1 << b1)) * B + B]
+                sc = Fi[(h ^ (1 << b2)) * B:(h ^ (1 << b2)) * B + B]
+                sd = Fi[(h ^ (1 << b3)) * B:(h ^ (1 << b3)) * B + B]
                 for l in range(B):
-                    fo[l] += wa * src_a[l]
+                    fo[l] += (wa * sa[l] + wb * sb[l]) + (wc * sc[l] + wd * sd[l])
+                q += 4
+            if q + 2 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                sb = Fi[(h ^ (1 << b1)) * B:(h ^ (1 << b1)) * B + B]
+                for l in range(B):
+                    fo[l] += wa * sa[l] + wb * sb[l]
+                q += 2
+            if q < ns:
+                b0 = srcs[q]
+                wa = w[L + b0]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                for l in range(B):
+                    fo[l] += wa * sa[l]
 
 
 def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no cover - compiled
