@@ -24,13 +24,15 @@ of slots (bit words),
    updates) and from the input blocks that differ in one high bit (contiguous vector
    updates), so every block is written by one thread and the loops vectorize; the
    gradients are accumulated in the same pass that forms the backward message;
-3. **memory**: the forward messages are kept only at checkpoints (every about
-   ``sqrt(n_items)`` items) when storing all of them would exceed ``_STORE_ALL_BYTES``, and
-   the messages of one segment are recomputed from its checkpoint during the backward
-   sweep (one extra forward sweep in time, ``O(sqrt(n_items) 2^n)`` memory instead of
-   ``O(n_items 2^n)``).
+3. **memory**: when storing every forward message would exceed ``_STORE_ALL_BYTES``, they
+   are kept only at checkpoints and the messages of one segment are recomputed from its
+   checkpoint during the backward sweep; segments shrink towards the end (the last one is
+   recomputed while every checkpoint is still kept), ``F_0`` is rebuilt rather than kept,
+   and ``F_n`` and ``V`` take the two scratch buffers of the forward sweep: about
+   ``sqrt(2 n_items)`` buffers of ``2^n`` doubles and a little less than one extra forward
+   sweep (:func:`_schedule` weighs the two, early steps being cheap).
 
-Blocks are dealt to a fixed number of interleaved chunks whose partial sums are added in
+Blocks are dealt to a fixed number of chunks (contiguous runs) whose partial sums are added in
 a fixed order, so the result does not depend on the number of threads; from
 ``_PARALLEL_MIN_SLOTS`` slots on, two Python threads run the (GIL-free) kernels on
 alternate chunks, smaller sweeps run in the calling thread.
@@ -45,7 +47,6 @@ from __future__ import annotations
 import importlib.util
 import os
 from concurrent.futures import ThreadPoolExecutor
-from math import ceil, sqrt
 from typing import Any
 
 import numpy as np
@@ -391,16 +392,49 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
             pool.shutdown()
 
 
+_BUFFER_COST = 1.4  # first use of a fresh message buffer (page faults), in full forward steps
+
+
+def _schedule(n_it: int, cost: np.ndarray) -> list[int]:
+    """The checkpoints ``[0, c_1, c_2, ...]`` of the forward messages kept for the backward sweep.
+
+    Segment ``j`` (from ``c_j`` to ``c_{j+1}``) is recomputed while the checkpoints before it
+    are still kept, so with ``P`` message buffers in all (two of them for the backward
+    messages, ``F_0`` rebuilt rather than kept) it may hold up to ``P - 1 - j`` messages:
+    long segments first, short ones last (``O(sqrt(2 n_items))`` buffers). ``cost[i]`` is the
+    relative cost of forward step ``i`` (early steps touch few blocks): ``P`` minimizes the
+    recomputation plus ``_BUFFER_COST`` per buffer.
+    """
+    best: tuple[float, list[int]] | None = None
+    for P in range(4, n_it + 5):
+        starts, total, j = [], 0, 0
+        while total < n_it and P - 1 - j - (j == 0) >= 1:
+            starts.append(total)
+            total += min(P - 1 - j - (j == 0), n_it - total)
+            j += 1
+        if total < n_it:
+            continue
+        ends = starts[1:] + [n_it]
+        val = sum(float(cost[a:b - 1].sum()) for a, b in zip(starts, ends)) + _BUFFER_COST * P
+        if best is None or val < best[0]:
+            best = (val, starts)
+        elif val > best[0] + 2 * _BUFFER_COST:
+            break
+    assert best is not None
+    return best[1]
+
+
 def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
     """The body of :func:`fb_sweep`: the two sweeps with the kernels ``fwd, bwd, fin``."""
     n_it, n = W.shape
     pc = np.zeros(rows, dtype=np.int64)
     for b in range(n - L):
         pc += (np.arange(rows) >> b) & 1
-    store_all = (n_it + 1) * N * 8 <= limit
-    seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
-    # forward sweep: F_a kept at the checkpoints a = 0, seg, 2 seg, ... (every a when
-    # store_all) and at a = n_it; the messages in between go through two scratch buffers
+    if (n_it + 1) * N * 8 <= limit:
+        starts = list(range(n_it))  # every forward message kept
+    else:
+        starts = _schedule(n_it, np.array([np.mean(pc <= i + 1) for i in range(n_it)]))
+    kept = set(starts[1:])
     owned: list[np.ndarray] = []
 
     def new() -> np.ndarray:
@@ -408,38 +442,41 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
         owned.append(arr)
         return arr
 
+    def delta(F: np.ndarray) -> np.ndarray:  # F_0, rebuilt when needed rather than kept
+        F[:] = 0.0
+        F[0] = 1.0
+        return F
+
+    # forward sweep: F_a kept at the checkpoints a in starts (but 0); the others go
+    # through two scratch buffers, which end with F_n and V
     checkpoints: dict[int, np.ndarray] = {}
-    F = new()
-    F[:] = 0.0
-    F[0] = 1.0
-    checkpoints[0] = F
-    scratch = [] if store_all else [new(), new()]
+    scr = [new(), new()]
+    F = delta(scr[0])
     for i in range(n_it):
-        keep = (i + 1) % seg == 0 or i + 1 == n_it
-        out = new() if keep else scratch[i % 2]
+        if i + 1 in kept:
+            out = checkpoints[i + 1] = new()
+        else:
+            out = scr[1] if F is scr[0] else scr[0]
         fwd(F, out, W[i], u[i], i, pc, L)
-        if keep:
-            checkpoints[i + 1] = out
         F = out
-    V = _v_message(v, new())
+    V = _v_message(v, scr[1] if F is scr[0] else scr[0])
     part = np.empty((_CHUNKS, n + 1))
     fin(F, V, L, part)
     sums = part.sum(axis=0)
     Z, un = float(sums[n]), sums[:n].copy()
     gW = np.zeros((n_it, n))
     gu = np.zeros(n_it)
-    scratch.append(checkpoints.pop(n_it))  # F_n is no longer needed
-    del F, out
+    free = [F]  # F_n is no longer needed
+    del F, out, scr
     # backward sweep, segment by segment from the last; a segment's forward messages are
     # recomputed from its checkpoint into free buffers
-    starts = sorted(checkpoints)
-    G, Gn = V, (scratch.pop() if scratch else new())
+    G, Gn = V, free.pop()
     for j in range(len(starts) - 1, -1, -1):
         a = starts[j]
         b = starts[j + 1] if j + 1 < len(starts) else n_it
-        msgs = [checkpoints.pop(a)]
+        msgs = [checkpoints.pop(a) if a else delta(free.pop() if free else new())]
         for i in range(a, b - 1):
-            nxt = scratch.pop() if scratch else new()
+            nxt = free.pop() if free else new()
             fwd(msgs[-1], nxt, W[i], u[i], i, pc, L)
             msgs.append(nxt)
         for i in range(b - 1, a - 1, -1):
@@ -449,8 +486,8 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
             gW[i] = W[i] * sums[:n]
             gu[i] = u[i] * sums[n]
             G, Gn = Gn, G
-            scratch.append(Fi)
-    del G, Gn, msgs, scratch
+            free.append(Fi)
+    del G, Gn, msgs, free
     _give_back(owned, N)
     _count(ops, W, N)
     return Z, gW, gu, un
