@@ -163,6 +163,7 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
     H = n - L
     w0 = w[0]
     w1 = w[1]
+    srcs = np.empty(max(H, 1), dtype=np.int64)
     for ch in range(c0, _CHUNKS, cstep):
         for k in range(n + 1):
             part[ch, k] = 0.0
@@ -208,41 +209,57 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
                         dst[j] += wk * g
                         acc += f[j] * g
                 part[ch, k] += acc
-            # the high bits: the blocks with one more of them, two source blocks per pass
-            pend = -1
+            # the high bits: the blocks with one more of them, four source blocks per pass
+            ns = 0
             for b in range(H):
                 if not (h >> b) & 1 and w[L + b] != 0.0:
-                    if pend < 0:
-                        pend = b
-                        continue
-                    sa = (h | (1 << pend)) * B
-                    sb = (h | (1 << b)) * B
-                    wa = w[L + pend]
-                    wb = w[L + b]
-                    src_a = Gn[sa:sa + B]
-                    src_b = Gn[sb:sb + B]
-                    acc_a = 0.0
-                    acc_b = 0.0
-                    for l in range(B):
-                        ga = src_a[l]
-                        gb = src_b[l]
-                        f = fi[l]
-                        go[l] += wa * ga + wb * gb
-                        acc_a += f * ga
-                        acc_b += f * gb
-                    part[ch, L + pend] += acc_a
-                    part[ch, L + b] += acc_b
-                    pend = -1
-            if pend >= 0:
-                sa = (h | (1 << pend)) * B
-                wa = w[L + pend]
-                src_a = Gn[sa:sa + B]
+                    srcs[ns] = b
+                    ns += 1
+            q = 0
+            while q + 4 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                b2 = srcs[q + 2]
+                b3 = srcs[q + 3]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                wc = w[L + b2]
+                wd = w[L + b3]
+                sa = Gn[(h | (1 << b0)) * B:(h | (1 << b0)) * B + B]
+                sb = Gn[(h | (1 << b1)) * B:(h | (1 << b1)) * B + B]
+                sc = Gn[(h | (1 << b2)) * B:(h | (1 << b2)) * B + B]
+                sd = Gn[(h | (1 << b3)) * B:(h | (1 << b3)) * B + B]
+                acc_a = 0.0
+                acc_b = 0.0
+                acc_c = 0.0
+                acc_d = 0.0
+                for l in range(B):
+                    ga = sa[l]
+                    gb = sb[l]
+                    gc = sc[l]
+                    gd = sd[l]
+                    f = fi[l]
+                    go[l] += (wa * ga + wb * gb) + (wc * gc + wd * gd)
+                    acc_a += f * ga
+                    acc_b += f * gb
+                    acc_c += f * gc
+                    acc_d += f * gd
+                part[ch, L + b0] += acc_a
+                part[ch, L + b1] += acc_b
+                part[ch, L + b2] += acc_c
+                part[ch, L + b3] += acc_d
+                q += 4
+            while q < ns:
+                b0 = srcs[q]
+                wa = w[L + b0]
+                sa = Gn[(h | (1 << b0)) * B:(h | (1 << b0)) * B + B]
                 acc_a = 0.0
                 for l in range(B):
-                    ga = src_a[l]
+                    ga = sa[l]
                     go[l] += wa * ga
                     acc_a += fi[l] * ga
-                part[ch, L + pend] += acc_a
+                part[ch, L + b0] += acc_a
+                q += 1
 
 
 def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
