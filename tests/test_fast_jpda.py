@@ -135,3 +135,15 @@ def test_schedule_covers_every_item_within_its_buffers(n_it):
     # messages (j checkpoints, the segment, two backward messages) stays near sqrt(2 n_it)
     peak = max(j + length + 1 + (j == 0) for j, length in enumerate(lengths))
     assert peak <= max(5, int(np.ceil(np.sqrt(2 * n_it))) + 4)
+
+
+@pytest.mark.parametrize("n_it,n,store", [(4, 9, None), (6, 8, 0), (12, 7, 0)])
+def test_blocks_beyond_the_support_are_never_read(monkeypatch, n_it, n, store):
+    # message buffers are taken uninitialized (or from an earlier sweep): fill them with NaN,
+    # which would reach the result if a block outside the support of a message were read
+    monkeypatch.setattr(_fast_jpda, "_take", lambda N: np.full(N, np.nan))
+    rng = np.random.default_rng(n_it + n)
+    W, u, v = _problem(rng, n_it, n)
+    got = _fast_jpda.fb_sweep(W, u, v, low_bits=2, store_all_bytes=store)
+    for g, r in zip(got, fbm._fb_sweep_reference(W, u, v)):
+        assert _rel(g, r) < 1e-12

@@ -17,7 +17,8 @@ of slots (bit words),
 1. **support**: ``F_i`` vanishes on subsets of more than ``i`` slots, and the gradients of
    item ``i`` read ``G_{i+1}`` only on subsets of at most ``i + 1`` slots, so step ``i``
    of either sweep touches only the blocks (below) whose high bits number at most
-   ``i + 1``; the others are never formed (forward: set to zero);
+   ``i + 1``; the others are never formed (forward: zeroed only where the next step reads
+   them, the blocks of ``i + 2`` high bits; the rest of a reused buffer is never read);
 2. **cache blocking**: a state index is split into ``_LOW_BITS`` low bits (a block of
    ``2^_LOW_BITS`` contiguous doubles, kept in L1) and the high bits (the block number);
    each output block is *pulled* from its own input block (low bits, in-block strided
@@ -90,7 +91,8 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
             if pc[h] > i + 1:
-                fo[:] = 0.0
+                if pc[h] == i + 2:  # read by the next step (its own block): zero; the
+                    fo[:] = 0.0  # blocks of more high bits are never read
                 continue
             fi = Fi[h * B:(h + 1) * B]
             # the item unmatched and the two lowest bits, four states at a time
@@ -262,8 +264,9 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
                 q += 1
 
 
-def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
-    """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``."""
+def _final_sums(F, V, L, pc, n_items, part, c0, cstep):  # pragma: no cover - compiled
+    """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``
+    (``F = F_{n_items}``, read only on the blocks of at most ``n_items`` high bits)."""
     B = 1 << L
     rows = F.shape[0] >> L
     n = part.shape[1] - 1
@@ -272,6 +275,8 @@ def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
         for k in range(n + 1):
             part[ch, k] = 0.0
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
+            if pc[h] > n_items:
+                continue
             o = h * B
             tot = 0.0
             for l in range(B):
@@ -459,8 +464,11 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
         owned.append(arr)
         return arr
 
+    B = 1 << L
+    read0 = np.flatnonzero(pc <= 1)  # the blocks step 0 reads
+
     def delta(F: np.ndarray) -> np.ndarray:  # F_0, rebuilt when needed rather than kept
-        F[:] = 0.0
+        F.reshape(rows, B)[read0] = 0.0
         F[0] = 1.0
         return F
 
@@ -478,7 +486,7 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
         F = out
     V = _v_message(v, scr[1] if F is scr[0] else scr[0])
     part = np.empty((_CHUNKS, n + 1))
-    fin(F, V, L, part)
+    fin(F, V, L, pc, n_it, part)
     sums = part.sum(axis=0)
     Z, un = float(sums[n]), sums[:n].copy()
     gW = np.zeros((n_it, n))
