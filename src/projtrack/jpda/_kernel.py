@@ -29,7 +29,10 @@ of slots (bit words),
    are kept only at checkpoints and the messages of one segment are recomputed from its
    checkpoint during the backward sweep; segments shrink towards the end (the last one is
    recomputed while every checkpoint is still kept), ``F_0`` is rebuilt rather than kept,
-   and ``F_n`` and ``V`` take the two scratch buffers of the forward sweep: about
+   ``F_n`` and ``V`` take the two scratch buffers of the forward sweep, and the backward
+   message is updated in place (a block keeps a copy of its old values; its sources, the
+   blocks with one more high bit, come later in its chunk or in a chunk of the next level,
+   the levels running one after the other): about
    ``sqrt(2 n_items)`` buffers of ``2^n`` doubles and a little less than one extra forward
    sweep (:func:`_schedule` weighs the two, early steps being cheap).
 
@@ -79,7 +82,7 @@ def numba_enabled() -> bool:
     return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
 
 
-def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - compiled
+def _forward_step(Fi, Fo, w, u, i, pc, L, chunks):  # pragma: no cover - compiled
     """``Fo = F_{i+1}`` from ``Fi = F_i`` (blocks of more than ``i + 1`` high bits: zero)."""
     B = 1 << L
     rows = Fi.shape[0] >> L
@@ -87,7 +90,7 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
     w0 = w[0]
     w1 = w[1]
     srcs = np.empty(max(H, 1), dtype=np.int64)
-    for ch in range(c0, _CHUNKS, cstep):
+    for ch in chunks:
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
             if pc[h] > i + 1:
@@ -156,9 +159,13 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
                     fo[l] += wa * sa[l]
 
 
-def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no cover - compiled
+def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, chunks):  # pragma: no cover - compiled
     """``Go = G_i`` from ``Gn = G_{i+1}`` on the blocks of at most ``i`` high bits, and the
-    per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``."""
+    per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``.
+
+    ``Go`` may be ``Gn`` (in place): a block reads its own old values from a copy and the
+    blocks with one more high bit, which come later in its chunk or in a chunk of more high
+    bits (``chunks`` then holds chunks of one such level, the levels run in increasing order)."""
     B = 1 << L
     rows = Fi.shape[0] >> L
     n = w.shape[0]
@@ -166,14 +173,15 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
     w0 = w[0]
     w1 = w[1]
     srcs = np.empty(max(H, 1), dtype=np.int64)
-    for ch in range(c0, _CHUNKS, cstep):
+    gn = np.empty(B)  # the old values of the block (Go may be Gn)
+    for ch in chunks:
         for k in range(n + 1):
             part[ch, k] = 0.0
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             if pc[h] > i:
                 continue
             fi = Fi[h * B:(h + 1) * B]
-            gn = Gn[h * B:(h + 1) * B]
+            gn[:] = Gn[h * B:(h + 1) * B]
             go = Go[h * B:(h + 1) * B]
             au = 0.0
             a0 = 0.0
@@ -264,14 +272,14 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
                 q += 1
 
 
-def _final_sums(F, V, L, pc, n_items, part, c0, cstep):  # pragma: no cover - compiled
+def _final_sums(F, V, L, pc, n_items, part, chunks):  # pragma: no cover - compiled
     """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``
     (``F = F_{n_items}``, read only on the blocks of at most ``n_items`` high bits)."""
     B = 1 << L
     rows = F.shape[0] >> L
     n = part.shape[1] - 1
     H = n - L
-    for ch in range(c0, _CHUNKS, cstep):
+    for ch in chunks:
         for k in range(n + 1):
             part[ch, k] = 0.0
         for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
@@ -397,18 +405,33 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     n_thr = _n_threads() if par else 1
     pool = ThreadPoolExecutor(max_workers=n_thr) if n_thr > 1 else None
 
-    def runner(kernel):
+    # chunks holding blocks, grouped by the number of high bits of their blocks that fall in
+    # the chunk number: a block's sources with one more high bit are later in its own chunk
+    # or in a chunk of the next group (what the in-place backward step needs)
+    H = n - L
+    first = [c * rows // _CHUNKS for c in range(_CHUNKS)]
+    used = [c for c in range(_CHUNKS) if (c + 1) * rows // _CHUNKS > first[c]]
+    level = {c: bin(first[c] >> max(0, H - 5)).count("1") for c in used}
+    groups = [np.array([c for c in used if level[c] == lv], dtype=np.int64)
+              for lv in sorted(set(level.values()))]
+    every = np.concatenate(groups)
+
+    def runner(kernel, by_level):
         def run(*args):
             if pool is None:
-                kernel(*args, 0, 1)
-            else:
-                for job in [pool.submit(kernel, *args, t, n_thr) for t in range(n_thr)]:
+                kernel(*args, every)
+                return
+            for grp in (groups if by_level else [every]):
+                jobs = [pool.submit(kernel, *args, grp[t::n_thr])
+                        for t in range(n_thr) if len(grp) > t]
+                for job in jobs:
                     job.result()
         return run
 
     try:
         return _sweep(W, u, v, ops, N, L, rows, limit,
-                      *(runner(_kernel(k)) for k in ("forward", "backward", "final")))
+                      runner(_kernel("forward"), False), runner(_kernel("backward"), True),
+                      runner(_kernel("final"), False))
     finally:
         if pool is not None:
             pool.shutdown()
@@ -421,18 +444,19 @@ def _schedule(n_it: int, cost: np.ndarray) -> list[int]:
     """The checkpoints ``[0, c_1, c_2, ...]`` of the forward messages kept for the backward sweep.
 
     Segment ``j`` (from ``c_j`` to ``c_{j+1}``) is recomputed while the checkpoints before it
-    are still kept, so with ``P`` message buffers in all (two of them for the backward
-    messages, ``F_0`` rebuilt rather than kept) it may hold up to ``P - 1 - j`` messages:
-    long segments first, short ones last (``O(sqrt(2 n_items))`` buffers). ``cost[i]`` is the
-    relative cost of forward step ``i`` (early steps touch few blocks): ``P`` minimizes the
-    recomputation plus ``_BUFFER_COST`` per buffer.
+    are still kept, so with ``P`` message buffers in all (one of them for the backward
+    messages, ``F_0`` rebuilt rather than kept, two scratch buffers in the forward sweep) it
+    may hold up to ``P - j`` messages (``P - 1`` for the first): long segments first, short
+    ones last (``O(sqrt(2 n_items))`` buffers). ``cost[i]`` is the relative cost of forward
+    step ``i`` (early steps touch few blocks): ``P`` minimizes the recomputation plus
+    ``_BUFFER_COST`` per buffer.
     """
     best: tuple[float, list[int]] | None = None
-    for P in range(4, n_it + 5):
+    for P in range(3, n_it + 5):
         starts, total, j = [], 0, 0
-        while total < n_it and P - 1 - j - (j == 0) >= 1:
+        while total < n_it and j <= P - 2:
             starts.append(total)
-            total += min(P - 1 - j - (j == 0), n_it - total)
+            total += min(P - j - (j == 0), n_it - total)
             j += 1
         if total < n_it:
             continue
@@ -485,7 +509,7 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
         fwd(F, out, W[i], u[i], i, pc, L)
         F = out
     V = _v_message(v, scr[1] if F is scr[0] else scr[0])
-    part = np.empty((_CHUNKS, n + 1))
+    part = np.zeros((_CHUNKS, n + 1))  # the rows of chunks without blocks stay zero
     fin(F, V, L, pc, n_it, part)
     sums = part.sum(axis=0)
     Z, un = float(sums[n]), sums[:n].copy()
@@ -495,7 +519,7 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
     del F, out, scr
     # backward sweep, segment by segment from the last; a segment's forward messages are
     # recomputed from its checkpoint into free buffers
-    G, Gn = V, free.pop()
+    G = V  # the backward messages, updated in place
     for j in range(len(starts) - 1, -1, -1):
         a = starts[j]
         b = starts[j + 1] if j + 1 < len(starts) else n_it
@@ -506,13 +530,12 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
             msgs.append(nxt)
         for i in range(b - 1, a - 1, -1):
             Fi = msgs.pop()
-            bwd(Fi, G, Gn, W[i], u[i], i, pc, L, part)
+            bwd(Fi, G, G, W[i], u[i], i, pc, L, part)
             sums = part.sum(axis=0)
             gW[i] = W[i] * sums[:n]
             gu[i] = u[i] * sums[n]
-            G, Gn = Gn, G
             free.append(Fi)
-    del G, Gn, msgs, free
+    del G, msgs, free
     _give_back(owned, N)
     _count(ops, W, N)
     return Z, gW, gu, un
