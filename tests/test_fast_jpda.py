@@ -112,3 +112,41 @@ def test_without_numba_the_numpy_sweep_runs(monkeypatch):
     want = jpda.beta_forward_backward(mvm)  # dispatches to the numpy sweep
     monkeypatch.setattr(_fast_jpda, "_HAVE_NUMBA", True)
     assert _rel(jpda.beta_forward_backward(mvm), want) < 1e-12
+
+
+def test_threads_give_identical_results_at_threaded_size():
+    # from _PARALLEL_MIN_SLOTS slots on the sweep runs on two threads by default: the chunks
+    # and their order of summation are fixed, so the numbers are the same bit for bit
+    rng = np.random.default_rng(18)
+    W, u, v = _problem(rng, 20, _fast_jpda._PARALLEL_MIN_SLOTS, 0.9)
+    one = _fast_jpda.fb_sweep(W, u, v, parallel=False, store_all_bytes=0)
+    two = _fast_jpda.fb_sweep(W, u, v, parallel=True, store_all_bytes=0)
+    for a, b in zip(one, two):
+        np.testing.assert_array_equal(a, b)
+    for a, b in zip(two, fbm._fb_sweep(W, u, v)):  # the threaded in-place steps are right
+        assert _rel(a, b) < 1e-12
+
+
+@pytest.mark.parametrize("n_it", [1, 2, 5, 24, 100])
+def test_schedule_covers_every_item_within_its_buffers(n_it):
+    cost = np.linspace(0.1, 1.0, n_it)
+    starts = _fast_jpda._schedule(n_it, cost)
+    assert starts[0] == 0 and starts == sorted(set(starts)) and starts[-1] < n_it
+    lengths = np.diff(starts + [n_it])
+    # segment j is recomputed while the j checkpoints before it are kept: the peak number of
+    # messages (j checkpoints, the segment, the backward message) stays near sqrt(2 n_it)
+    peak = max(j + length + (j == 0) for j, length in enumerate(lengths))
+    peak = max(peak, len(starts) + 1)  # forward sweep: checkpoints and two scratch buffers
+    assert peak <= max(5, int(np.ceil(np.sqrt(2 * n_it))) + 4)
+
+
+@pytest.mark.parametrize("n_it,n,store", [(4, 9, None), (6, 8, 0), (12, 7, 0)])
+def test_blocks_beyond_the_support_are_never_read(monkeypatch, n_it, n, store):
+    # message buffers are taken uninitialized (or from an earlier sweep): fill them with NaN,
+    # which would reach the result if a block outside the support of a message were read
+    monkeypatch.setattr(_fast_jpda, "_take", lambda N: np.full(N, np.nan))
+    rng = np.random.default_rng(n_it + n)
+    W, u, v = _problem(rng, n_it, n)
+    got = _fast_jpda.fb_sweep(W, u, v, low_bits=2, store_all_bytes=store)
+    for g, r in zip(got, fbm._fb_sweep_reference(W, u, v)):
+        assert _rel(g, r) < 1e-12

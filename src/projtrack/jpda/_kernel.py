@@ -17,20 +17,26 @@ of slots (bit words),
 1. **support**: ``F_i`` vanishes on subsets of more than ``i`` slots, and the gradients of
    item ``i`` read ``G_{i+1}`` only on subsets of at most ``i + 1`` slots, so step ``i``
    of either sweep touches only the blocks (below) whose high bits number at most
-   ``i + 1``; the others are never formed (forward: set to zero);
+   ``i + 1``; the others are never formed (forward: zeroed only where the next step reads
+   them, the blocks of ``i + 2`` high bits; the rest of a reused buffer is never read);
 2. **cache blocking**: a state index is split into ``_LOW_BITS`` low bits (a block of
    ``2^_LOW_BITS`` contiguous doubles, kept in L1) and the high bits (the block number);
    each output block is *pulled* from its own input block (low bits, in-block strided
    updates) and from the input blocks that differ in one high bit (contiguous vector
    updates), so every block is written by one thread and the loops vectorize; the
    gradients are accumulated in the same pass that forms the backward message;
-3. **memory**: the forward messages are kept only at checkpoints (every about
-   ``sqrt(n_items)`` items) when storing all of them would exceed ``_STORE_ALL_BYTES``, and
-   the messages of one segment are recomputed from its checkpoint during the backward
-   sweep (one extra forward sweep in time, ``O(sqrt(n_items) 2^n)`` memory instead of
-   ``O(n_items 2^n)``).
+3. **memory**: when storing every forward message would exceed ``_STORE_ALL_BYTES``, they
+   are kept only at checkpoints and the messages of one segment are recomputed from its
+   checkpoint during the backward sweep; segments shrink towards the end (the last one is
+   recomputed while every checkpoint is still kept), ``F_0`` is rebuilt rather than kept,
+   ``F_n`` and ``V`` take the two scratch buffers of the forward sweep, and the backward
+   message is updated in place (a block keeps a copy of its old values; its sources, the
+   blocks with one more high bit, come later in its chunk or in a chunk of the next level,
+   the levels running one after the other): about
+   ``sqrt(2 n_items)`` buffers of ``2^n`` doubles and a little less than one extra forward
+   sweep (:func:`_schedule` weighs the two, early steps being cheap).
 
-Blocks are dealt to a fixed number of interleaved chunks whose partial sums are added in
+Blocks are dealt to a fixed number of chunks (contiguous runs) whose partial sums are added in
 a fixed order, so the result does not depend on the number of threads; from
 ``_PARALLEL_MIN_SLOTS`` slots on, two Python threads run the (GIL-free) kernels on
 alternate chunks, smaller sweeps run in the calling thread.
@@ -45,7 +51,6 @@ from __future__ import annotations
 import importlib.util
 import os
 from concurrent.futures import ThreadPoolExecutor
-from math import ceil, sqrt
 from typing import Any
 
 import numpy as np
@@ -77,18 +82,20 @@ def numba_enabled() -> bool:
     return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
 
 
-def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - compiled
+def _forward_step(Fi, Fo, w, u, i, pc, L, chunks):  # pragma: no cover - compiled
     """``Fo = F_{i+1}`` from ``Fi = F_i`` (blocks of more than ``i + 1`` high bits: zero)."""
     B = 1 << L
     rows = Fi.shape[0] >> L
     H = w.shape[0] - L
     w0 = w[0]
     w1 = w[1]
-    for ch in range(c0, _CHUNKS, cstep):
-        for h in range(ch, rows, _CHUNKS):
+    srcs = np.empty(max(H, 1), dtype=np.int64)
+    for ch in chunks:
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             fo = Fo[h * B:(h + 1) * B]
             if pc[h] > i + 1:
-                fo[:] = 0.0
+                if pc[h] == i + 2:  # read by the next step (its own block): zero; the
+                    fo[:] = 0.0  # blocks of more high bits are never read
                 continue
             fi = Fi[h * B:(h + 1) * B]
             # the item unmatched and the two lowest bits, four states at a time
@@ -106,49 +113,75 @@ def _forward_step(Fi, Fo, w, u, i, pc, L, c0, cstep):  # pragma: no cover - comp
                     continue
                 st = 1 << k
                 for base in range(0, B, 2 * st):
+                    src = fi[base:base + st]  # views: the inner loop vectorizes
+                    dst = fo[base + st:base + 2 * st]
                     for j in range(st):
-                        fo[base + st + j] += wk * fi[base + j]
-            # the high bits: the blocks without one of them, two source blocks per pass
-            pend = -1
+                        dst[j] += wk * src[j]
+            # the high bits: the blocks without one of them, four source blocks per pass
+            # (fewer read-modify-write passes over the output block)
+            ns = 0
             for b in range(H):
                 if (h >> b) & 1 and w[L + b] != 0.0:
-                    if pend < 0:
-                        pend = b
-                        continue
-                    sa = (h ^ (1 << pend)) * B
-                    sb = (h ^ (1 << b)) * B
-                    wa = w[L + pend]
-                    wb = w[L + b]
-                    src_a = Fi[sa:sa + B]
-                    src_b = Fi[sb:sb + B]
-                    for l in range(B):
-                        fo[l] += wa * src_a[l] + wb * src_b[l]
-                    pend = -1
-            if pend >= 0:
-                sa = (h ^ (1 << pend)) * B
-                wa = w[L + pend]
-                src_a = Fi[sa:sa + B]
+                    srcs[ns] = b
+                    ns += 1
+            q = 0
+            while q + 4 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                b2 = srcs[q + 2]
+                b3 = srcs[q + 3]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                wc = w[L + b2]
+                wd = w[L + b3]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                sb = Fi[(h ^ (1 << b1)) * B:(h ^ (1 << b1)) * B + B]
+                sc = Fi[(h ^ (1 << b2)) * B:(h ^ (1 << b2)) * B + B]
+                sd = Fi[(h ^ (1 << b3)) * B:(h ^ (1 << b3)) * B + B]
                 for l in range(B):
-                    fo[l] += wa * src_a[l]
+                    fo[l] += (wa * sa[l] + wb * sb[l]) + (wc * sc[l] + wd * sd[l])
+                q += 4
+            if q + 2 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                sb = Fi[(h ^ (1 << b1)) * B:(h ^ (1 << b1)) * B + B]
+                for l in range(B):
+                    fo[l] += wa * sa[l] + wb * sb[l]
+                q += 2
+            if q < ns:
+                b0 = srcs[q]
+                wa = w[L + b0]
+                sa = Fi[(h ^ (1 << b0)) * B:(h ^ (1 << b0)) * B + B]
+                for l in range(B):
+                    fo[l] += wa * sa[l]
 
 
-def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no cover - compiled
+def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, chunks):  # pragma: no cover - compiled
     """``Go = G_i`` from ``Gn = G_{i+1}`` on the blocks of at most ``i`` high bits, and the
-    per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``."""
+    per-chunk sums ``part[ch, k] = sum F_i[S] G_{i+1}[S + k]``, ``part[ch, n] = sum F_i G_{i+1}``.
+
+    ``Go`` may be ``Gn`` (in place): a block reads its own old values from a copy and the
+    blocks with one more high bit, which come later in its chunk or in a chunk of more high
+    bits (``chunks`` then holds chunks of one such level, the levels run in increasing order)."""
     B = 1 << L
     rows = Fi.shape[0] >> L
     n = w.shape[0]
     H = n - L
     w0 = w[0]
     w1 = w[1]
-    for ch in range(c0, _CHUNKS, cstep):
+    srcs = np.empty(max(H, 1), dtype=np.int64)
+    gn = np.empty(B)  # the old values of the block (Go may be Gn)
+    for ch in chunks:
         for k in range(n + 1):
             part[ch, k] = 0.0
-        for h in range(ch, rows, _CHUNKS):
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
             if pc[h] > i:
                 continue
             fi = Fi[h * B:(h + 1) * B]
-            gn = Gn[h * B:(h + 1) * B]
+            gn[:] = Gn[h * B:(h + 1) * B]
             go = Go[h * B:(h + 1) * B]
             au = 0.0
             a0 = 0.0
@@ -178,58 +211,80 @@ def _backward_step(Fi, Gn, Go, w, u, i, pc, L, part, c0, cstep):  # pragma: no c
                 st = 1 << k
                 acc = 0.0
                 for base in range(0, B, 2 * st):
+                    src = gn[base + st:base + 2 * st]  # views: the inner loop vectorizes
+                    dst = go[base:base + st]
+                    f = fi[base:base + st]
                     for j in range(st):
-                        g = gn[base + st + j]
-                        go[base + j] += wk * g
-                        acc += fi[base + j] * g
+                        g = src[j]
+                        dst[j] += wk * g
+                        acc += f[j] * g
                 part[ch, k] += acc
-            # the high bits: the blocks with one more of them, two source blocks per pass
-            pend = -1
+            # the high bits: the blocks with one more of them, four source blocks per pass
+            ns = 0
             for b in range(H):
                 if not (h >> b) & 1 and w[L + b] != 0.0:
-                    if pend < 0:
-                        pend = b
-                        continue
-                    sa = (h | (1 << pend)) * B
-                    sb = (h | (1 << b)) * B
-                    wa = w[L + pend]
-                    wb = w[L + b]
-                    src_a = Gn[sa:sa + B]
-                    src_b = Gn[sb:sb + B]
-                    acc_a = 0.0
-                    acc_b = 0.0
-                    for l in range(B):
-                        ga = src_a[l]
-                        gb = src_b[l]
-                        f = fi[l]
-                        go[l] += wa * ga + wb * gb
-                        acc_a += f * ga
-                        acc_b += f * gb
-                    part[ch, L + pend] += acc_a
-                    part[ch, L + b] += acc_b
-                    pend = -1
-            if pend >= 0:
-                sa = (h | (1 << pend)) * B
-                wa = w[L + pend]
-                src_a = Gn[sa:sa + B]
+                    srcs[ns] = b
+                    ns += 1
+            q = 0
+            while q + 4 <= ns:
+                b0 = srcs[q]
+                b1 = srcs[q + 1]
+                b2 = srcs[q + 2]
+                b3 = srcs[q + 3]
+                wa = w[L + b0]
+                wb = w[L + b1]
+                wc = w[L + b2]
+                wd = w[L + b3]
+                sa = Gn[(h | (1 << b0)) * B:(h | (1 << b0)) * B + B]
+                sb = Gn[(h | (1 << b1)) * B:(h | (1 << b1)) * B + B]
+                sc = Gn[(h | (1 << b2)) * B:(h | (1 << b2)) * B + B]
+                sd = Gn[(h | (1 << b3)) * B:(h | (1 << b3)) * B + B]
+                acc_a = 0.0
+                acc_b = 0.0
+                acc_c = 0.0
+                acc_d = 0.0
+                for l in range(B):
+                    ga = sa[l]
+                    gb = sb[l]
+                    gc = sc[l]
+                    gd = sd[l]
+                    f = fi[l]
+                    go[l] += (wa * ga + wb * gb) + (wc * gc + wd * gd)
+                    acc_a += f * ga
+                    acc_b += f * gb
+                    acc_c += f * gc
+                    acc_d += f * gd
+                part[ch, L + b0] += acc_a
+                part[ch, L + b1] += acc_b
+                part[ch, L + b2] += acc_c
+                part[ch, L + b3] += acc_d
+                q += 4
+            while q < ns:
+                b0 = srcs[q]
+                wa = w[L + b0]
+                sa = Gn[(h | (1 << b0)) * B:(h | (1 << b0)) * B + B]
                 acc_a = 0.0
                 for l in range(B):
-                    ga = src_a[l]
+                    ga = sa[l]
                     go[l] += wa * ga
                     acc_a += fi[l] * ga
-                part[ch, L + pend] += acc_a
+                part[ch, L + b0] += acc_a
+                q += 1
 
 
-def _final_sums(F, V, L, part, c0, cstep):  # pragma: no cover - compiled
-    """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``."""
+def _final_sums(F, V, L, pc, n_items, part, chunks):  # pragma: no cover - compiled
+    """Per-chunk ``part[ch, k] = sum_{S not containing k} F[S] V[S]``, ``part[ch, n] = sum F V``
+    (``F = F_{n_items}``, read only on the blocks of at most ``n_items`` high bits)."""
     B = 1 << L
     rows = F.shape[0] >> L
     n = part.shape[1] - 1
     H = n - L
-    for ch in range(c0, _CHUNKS, cstep):
+    for ch in chunks:
         for k in range(n + 1):
             part[ch, k] = 0.0
-        for h in range(ch, rows, _CHUNKS):
+        for h in range(ch * rows // _CHUNKS, (ch + 1) * rows // _CHUNKS):
+            if pc[h] > n_items:
+                continue
             o = h * B
             tot = 0.0
             for l in range(B):
@@ -350,21 +405,69 @@ def fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray, ops: Any = None, *,
     n_thr = _n_threads() if par else 1
     pool = ThreadPoolExecutor(max_workers=n_thr) if n_thr > 1 else None
 
-    def runner(kernel):
+    # chunks holding blocks, grouped by the number of high bits of their blocks that fall in
+    # the chunk number: a block's sources with one more high bit are later in its own chunk
+    # or in a chunk of the next group (what the in-place backward step needs)
+    H = n - L
+    first = [c * rows // _CHUNKS for c in range(_CHUNKS)]
+    used = [c for c in range(_CHUNKS) if (c + 1) * rows // _CHUNKS > first[c]]
+    level = {c: bin(first[c] >> max(0, H - 5)).count("1") for c in used}
+    groups = [np.array([c for c in used if level[c] == lv], dtype=np.int64)
+              for lv in sorted(set(level.values()))]
+    every = np.concatenate(groups)
+
+    def runner(kernel, by_level):
         def run(*args):
             if pool is None:
-                kernel(*args, 0, 1)
-            else:
-                for job in [pool.submit(kernel, *args, t, n_thr) for t in range(n_thr)]:
+                kernel(*args, every)
+                return
+            for grp in (groups if by_level else [every]):
+                jobs = [pool.submit(kernel, *args, grp[t::n_thr])
+                        for t in range(n_thr) if len(grp) > t]
+                for job in jobs:
                     job.result()
         return run
 
     try:
         return _sweep(W, u, v, ops, N, L, rows, limit,
-                      *(runner(_kernel(k)) for k in ("forward", "backward", "final")))
+                      runner(_kernel("forward"), False), runner(_kernel("backward"), True),
+                      runner(_kernel("final"), False))
     finally:
         if pool is not None:
             pool.shutdown()
+
+
+_BUFFER_COST = 1.4  # first use of a fresh message buffer (page faults), in full forward steps
+
+
+def _schedule(n_it: int, cost: np.ndarray) -> list[int]:
+    """The checkpoints ``[0, c_1, c_2, ...]`` of the forward messages kept for the backward sweep.
+
+    Segment ``j`` (from ``c_j`` to ``c_{j+1}``) is recomputed while the checkpoints before it
+    are still kept, so with ``P`` message buffers in all (one of them for the backward
+    messages, ``F_0`` rebuilt rather than kept, two scratch buffers in the forward sweep) it
+    may hold up to ``P - j`` messages (``P - 1`` for the first): long segments first, short
+    ones last (``O(sqrt(2 n_items))`` buffers). ``cost[i]`` is the relative cost of forward
+    step ``i`` (early steps touch few blocks): ``P`` minimizes the recomputation plus
+    ``_BUFFER_COST`` per buffer.
+    """
+    best: tuple[float, list[int]] | None = None
+    for P in range(3, n_it + 5):
+        starts, total, j = [], 0, 0
+        while total < n_it and j <= P - 2:
+            starts.append(total)
+            total += min(P - j - (j == 0), n_it - total)
+            j += 1
+        if total < n_it:
+            continue
+        ends = starts[1:] + [n_it]
+        val = sum(float(cost[a:b - 1].sum()) for a, b in zip(starts, ends)) + _BUFFER_COST * P
+        if best is None or val < best[0]:
+            best = (val, starts)
+        elif val > best[0] + 2 * _BUFFER_COST:
+            break
+    assert best is not None
+    return best[1]
 
 
 def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
@@ -373,10 +476,11 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
     pc = np.zeros(rows, dtype=np.int64)
     for b in range(n - L):
         pc += (np.arange(rows) >> b) & 1
-    store_all = (n_it + 1) * N * 8 <= limit
-    seg = 1 if store_all else max(1, ceil(sqrt(n_it + 1)))
-    # forward sweep: F_a kept at the checkpoints a = 0, seg, 2 seg, ... (every a when
-    # store_all) and at a = n_it; the messages in between go through two scratch buffers
+    if (n_it + 1) * N * 8 <= limit:
+        starts = list(range(n_it))  # every forward message kept
+    else:
+        starts = _schedule(n_it, np.array([np.mean(pc <= i + 1) for i in range(n_it)]))
+    kept = set(starts[1:])
     owned: list[np.ndarray] = []
 
     def new() -> np.ndarray:
@@ -384,49 +488,54 @@ def _sweep(W, u, v, ops, N, L, rows, limit, fwd, bwd, fin):
         owned.append(arr)
         return arr
 
+    B = 1 << L
+    read0 = np.flatnonzero(pc <= 1)  # the blocks step 0 reads
+
+    def delta(F: np.ndarray) -> np.ndarray:  # F_0, rebuilt when needed rather than kept
+        F.reshape(rows, B)[read0] = 0.0
+        F[0] = 1.0
+        return F
+
+    # forward sweep: F_a kept at the checkpoints a in starts (but 0); the others go
+    # through two scratch buffers, which end with F_n and V
     checkpoints: dict[int, np.ndarray] = {}
-    F = new()
-    F[:] = 0.0
-    F[0] = 1.0
-    checkpoints[0] = F
-    scratch = [] if store_all else [new(), new()]
+    scr = [new(), new()]
+    F = delta(scr[0])
     for i in range(n_it):
-        keep = (i + 1) % seg == 0 or i + 1 == n_it
-        out = new() if keep else scratch[i % 2]
+        if i + 1 in kept:
+            out = checkpoints[i + 1] = new()
+        else:
+            out = scr[1] if F is scr[0] else scr[0]
         fwd(F, out, W[i], u[i], i, pc, L)
-        if keep:
-            checkpoints[i + 1] = out
         F = out
-    V = _v_message(v, new())
-    part = np.empty((_CHUNKS, n + 1))
-    fin(F, V, L, part)
+    V = _v_message(v, scr[1] if F is scr[0] else scr[0])
+    part = np.zeros((_CHUNKS, n + 1))  # the rows of chunks without blocks stay zero
+    fin(F, V, L, pc, n_it, part)
     sums = part.sum(axis=0)
     Z, un = float(sums[n]), sums[:n].copy()
     gW = np.zeros((n_it, n))
     gu = np.zeros(n_it)
-    scratch.append(checkpoints.pop(n_it))  # F_n is no longer needed
-    del F, out
+    free = [F]  # F_n is no longer needed
+    del F, out, scr
     # backward sweep, segment by segment from the last; a segment's forward messages are
     # recomputed from its checkpoint into free buffers
-    starts = sorted(checkpoints)
-    G, Gn = V, (scratch.pop() if scratch else new())
+    G = V  # the backward messages, updated in place
     for j in range(len(starts) - 1, -1, -1):
         a = starts[j]
         b = starts[j + 1] if j + 1 < len(starts) else n_it
-        msgs = [checkpoints.pop(a)]
+        msgs = [checkpoints.pop(a) if a else delta(free.pop() if free else new())]
         for i in range(a, b - 1):
-            nxt = scratch.pop() if scratch else new()
+            nxt = free.pop() if free else new()
             fwd(msgs[-1], nxt, W[i], u[i], i, pc, L)
             msgs.append(nxt)
         for i in range(b - 1, a - 1, -1):
             Fi = msgs.pop()
-            bwd(Fi, G, Gn, W[i], u[i], i, pc, L, part)
+            bwd(Fi, G, G, W[i], u[i], i, pc, L, part)
             sums = part.sum(axis=0)
             gW[i] = W[i] * sums[:n]
             gu[i] = u[i] * sums[n]
-            G, Gn = Gn, G
-            scratch.append(Fi)
-    del G, Gn, msgs, scratch
+            free.append(Fi)
+    del G, msgs, free
     _give_back(owned, N)
     _count(ops, W, N)
     return Z, gW, gu, un
