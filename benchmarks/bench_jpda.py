@@ -26,11 +26,11 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from contextlib import contextmanager
 
 import numpy as np
 
 from projtrack import jpda
+from projtrack._numba import numpy_only
 from projtrack.jpda import _kernel as _fast_jpda
 from projtrack._peers import stonesoup_jpda
 
@@ -123,20 +123,6 @@ def main() -> None:
           f"m = T = 20 in {t20:.3f} s (< 2 s: {t20 < 2})")
 
 
-@contextmanager
-def numpy_sweep():
-    """Run the previous numpy sweep (PROJTRACK_NO_NUMBA=1) inside the block."""
-    old = os.environ.get("PROJTRACK_NO_NUMBA")
-    os.environ["PROJTRACK_NO_NUMBA"] = "1"
-    try:
-        yield
-    finally:
-        if old is None:
-            del os.environ["PROJTRACK_NO_NUMBA"]
-        else:
-            os.environ["PROJTRACK_NO_NUMBA"] = old
-
-
 def timed(fn, repeats: int) -> tuple[float, float, np.ndarray, float]:
     """Best wall-clock and CPU seconds of ``repeats`` calls, the result, and the system CPU
     seconds of the call with the least CPU time (mostly page faults of fresh memory)."""
@@ -168,7 +154,7 @@ def bench_large() -> None:
         mvm = problem(n, np.random.default_rng(n))[3]
         fast = timed(lambda: jpda.beta_forward_backward(mvm), 3 if n < 24 else 1)
         if n < 24:
-            with numpy_sweep():
+            with numpy_only():
                 slow = timed(lambda: jpda.beta_forward_backward(mvm), 2)
             rel = float(np.max(np.abs(fast[2] - slow[2]) / np.abs(slow[2])))
             same = np.array_equal(one_thread(mvm), fast[2])

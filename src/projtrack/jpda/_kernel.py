@@ -48,28 +48,17 @@ it is used (numba importable and ``PROJTRACK_NO_NUMBA`` not ``1``).
 
 from __future__ import annotations
 
-import importlib.util
 import os
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
 
+from projtrack import _numba
+
 __all__ = ["fb_sweep", "numba_enabled"]
 
-# numba is optional, and imported only when a kernel is first compiled (it takes a second)
-_HAVE_NUMBA = importlib.util.find_spec("numba") is not None
-_numba: Any = None
-
-
-def _import_numba() -> Any:
-    global _numba
-    if _numba is None:
-        import numba
-
-        _numba = numba
-    return _numba
-
+_HAVE_NUMBA = _numba.HAVE_NUMBA
 
 _LOW_BITS = 10  # a block holds 2^10 doubles (8 kB, in L1)
 _CHUNKS = 32  # blocks are dealt to this many interleaved chunks (fixed: deterministic sums)
@@ -79,7 +68,7 @@ _STORE_ALL_BYTES = 1 << 28  # keep every forward message up to this much memory 
 
 def numba_enabled() -> bool:
     """True when numba is importable and ``PROJTRACK_NO_NUMBA`` is not ``1``."""
-    return _HAVE_NUMBA and os.environ.get("PROJTRACK_NO_NUMBA", "") != "1"
+    return _HAVE_NUMBA and _numba.switched_on()
 
 
 def _forward_step(Fi, Fo, w, u, i, pc, L, chunks):  # pragma: no cover - compiled
@@ -316,7 +305,7 @@ def _kernel(name: str):
     """
     if name not in _kernels:
         fn = {"forward": _forward_step, "backward": _backward_step, "final": _final_sums}[name]
-        _kernels[name] = _import_numba().njit(cache=True, nogil=True,
+        _kernels[name] = _numba.import_numba().njit(cache=True, nogil=True,
                                               fastmath={"reassoc", "contract"})(fn)
     return _kernels[name]
 
