@@ -451,3 +451,23 @@ def test_conventional_op_count_closed_forms(mT):
     N = jpda.count_feasible_events
     assert c.multiplications == N(m, T) * (T - 1)
     assert c.additions == m * T * (N(m - 1, T - 1) - 1)
+
+
+def test_without_numba_large_sweeps_use_the_numpy_sweep(monkeypatch):
+    """With numba missing, a sweep above the compiled kernel's threshold runs the numpy sweep,
+    which must equal the plain reference recursions (this test runs with or without numba)."""
+    from projtrack.jpda import _kernel
+    from projtrack.jpda import forward_backward as fbm
+
+    monkeypatch.setattr(_kernel, "_HAVE_NUMBA", False)
+    rng = np.random.default_rng(5)
+    W = rng.random((10, 10)) * (rng.random((10, 10)) < 0.7)
+    u, v = rng.random(10) + 0.1, rng.random(10) + 0.1
+    called = []
+    monkeypatch.setattr(_kernel, "fb_sweep", lambda *a, **k: called.append(1))
+    got = fbm._fb_core(W, u, v)
+    want = fbm._fb_sweep_reference(W, u, v)
+    assert not called
+    assert abs(got[0] - want[0]) <= 1e-12 * want[0]
+    for g, r in zip(got[1:], want[1:]):
+        np.testing.assert_allclose(g, r, rtol=1e-12, atol=1e-300)
