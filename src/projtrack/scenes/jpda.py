@@ -16,6 +16,8 @@ import numpy as np
 
 from projtrack._validation import as_int, as_probability, as_real, as_rng
 
+__all__ = ["CrossingScene", "cv_model", "crossing_targets", "random_mvm"]
+
 
 @dataclass
 class CrossingScene:
