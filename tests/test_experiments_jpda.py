@@ -169,3 +169,71 @@ def test_vector_growth_table():
     assert g.loc[3, "length / eq. (1)"] == pytest.approx(7 / 34)
     with pytest.raises(ValueError, match="22"):
         ex.vector_growth([23])
+
+
+def test_multiplication_rules_are_pinned_and_judged_on_table_iv():
+    rules = ex.multiplication_rules()
+    assert rules["T - 1 (per target)"](7, 3) == 716 == 2 * jpda.count_feasible_events(7, 3)
+    assert rules["m (the text)"](3, 3) == 3 * 34
+    printed = {(3, 3): (54, 68), (7, 3): (882, 716), (3, 4): (144, 1)}  # (3, 4) misprinted
+    assert ex.rule_fits(rules["T - 1 (per target)"], printed) == (2, [(3, 4)])
+    assert ex.rule_fits(rules["T - 1 (per target)"], printed, exclude=[(7, 3)]) == (1, [(3, 4)])
+    assert ex.rule_fits(rules["m (the text)"], printed)[0] == 0
+    table = ex.multiplication_rule_table(printed)
+    assert list(table.columns) == ["cells of Table IV equal", "m = 7, T = 3", "m = T = 7"]
+    assert table.loc["T - 1 (per target)", "cells of Table IV equal"] == 2
+    with pytest.raises(TypeError, match="rule"):
+        ex.rule_fits(None, printed)
+    with pytest.raises(ValueError, match="index"):
+        ex.rule_fits(rules["m (the text)"], printed, index=2)
+
+
+def test_table5_additions_rule_and_its_proof_of_a_misprint():
+    # Table V's printed additions for m, T = 3, 4
+    assert [ex.table5_additions_rule(m, T) for m in (3, 4) for T in (3, 4)] == [63, 132, 132, 304]
+    ours = {(m, T): (ex.table5_additions_rule(m, T), 0) for m in (3, 4) for T in (3, 4)}
+    printed = dict(ours)
+    printed[4, 4] = (300, 0)  # not a multiple of m T = 16
+    proven, text = ex.table5_additions_proof((4, 4), ours, printed)
+    assert proven and "3/3 other" in text and "= 304" in text
+    printed[4, 4] = (320, 0)  # a multiple of m T: the rule alone does not prove it
+    assert not ex.table5_additions_proof((4, 4), ours, printed)[0]
+    printed[4, 4], printed[3, 3] = (300, 0), (64, 0)  # another cell misfits the rule
+    assert not ex.table5_additions_proof((4, 4), ours, printed)[0]
+    with pytest.raises(ValueError, match="k = "):
+        ex.table5_additions_proof((5, 5), ours, printed)
+    with pytest.raises(ValueError, match="m"):
+        ex.table5_additions_rule(1, 3)
+
+
+def test_table6_ratio_decides_which_value_it_supports():
+    # Table VI at m = T = 3 prints 0.9/1.3 = 54/63 and 68/51 rounded half-up
+    assert ex.ratio_fits((0.9, 1.3), (54, 68), (63, 51))
+    assert not ex.ratio_fits((0.9, 1.3), (54, 80), (63, 51))
+    assert ex.ratio_fits((1.3, 1.0), (300, 5), (240, 5))  # 1.25 rounds up
+    with pytest.raises(ValueError, match="pairs"):
+        ex.ratio_fits((0.9,), (54, 68), (63, 51))
+    assert [ex.supported_value(a, b) for a, b in
+            ((True, False), (True, True), (False, True), (False, False))] == [
+        "ours", "ours+paper", "paper", ""]
+    with pytest.raises(TypeError, match="boolean"):
+        ex.supported_value(1, 0)
+
+
+def test_growth_readings_and_their_baselines():
+    assert ex.grows_geometrically({n: 2**n for n in range(3, 9)})
+    assert not ex.grows_geometrically({n: n + 1 for n in range(3, 9)})
+    assert not ex.grows_geometrically({3: 1, 4: 1, 5: 2, 6: 3.7, 7: 8})  # one step < 1.9
+    with pytest.raises(ValueError, match="two values"):
+        ex.grows_geometrically({3: 1, 4: 2, 5: 4})
+    growth = ex.vector_growth(range(3, 9))
+    r = ex.growth_readings(growth, diag=range(3, 6), sizes=range(3, 5), t_range=range(3, 7))
+    assert r["claim holds"].tolist() == [False, True, True]
+    assert r["baseline passes"].tolist() == [True, False, False]
+    assert r.iloc[0]["values"].startswith("7, 15, 31 (m = T = 3..5; x")
+    assert "from 7 to 8" in r.iloc[0]["values"]
+    assert r.iloc[2]["values"].endswith("<= 2^m up to T = 6 for m = 3..4: True")
+    with pytest.raises(TypeError, match="vector_growth"):
+        ex.growth_readings(growth["vector length"])
+    with pytest.raises(ValueError, match="diag"):
+        ex.growth_readings(growth, diag=[3])

@@ -1,6 +1,7 @@
 """Experiments of the JPDA chapter (Fisher & Casasent 1989).
 
 * :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data.
+* :mod:`~projtrack.experiments.jpda.misprints`: evidence for Tables IV-VI's misprints; vector-growth readings.
 * :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
 * :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
 * :mod:`~projtrack.experiments.jpda.analog`: beta errors of Fig. 5 with noisy detectors.
@@ -18,6 +19,17 @@ from .crosschecks import (
     permanent_rect,
 )
 from .equivalence import equivalence_study, equivalence_trial
+from .misprints import (
+    grows_geometrically,
+    growth_readings,
+    multiplication_rule_table,
+    multiplication_rules,
+    ratio_fits,
+    rule_fits,
+    supported_value,
+    table5_additions_proof,
+    table5_additions_rule,
+)
 from .optables import (
     all_ones_mvm,
     count_grid,
@@ -38,6 +50,15 @@ __all__ = [
     "parse_ratio_table",
     "half_up",
     "vector_growth",
+    "multiplication_rules",
+    "rule_fits",
+    "multiplication_rule_table",
+    "table5_additions_rule",
+    "table5_additions_proof",
+    "ratio_fits",
+    "supported_value",
+    "grows_geometrically",
+    "growth_readings",
     "beta_literature_rule",
     "permanent_rect",
     "beta_by_permanents",

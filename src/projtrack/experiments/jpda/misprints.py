@@ -1,0 +1,207 @@
+"""Evidence behind the JPDA chapter's readings of Tables III-VI.
+
+The paper's operation-count tables (IV, V) differ from the instrumented counts in a few
+cells; these functions decide which value the paper's other tables support.
+:func:`multiplication_rules` and :func:`rule_fits` test a multiplications-per-matrix rule
+against Table IV; :func:`table5_additions_rule` and :func:`table5_additions_proof` test
+Table V's additions against Table III's vector sizes; :func:`ratio_fits` and
+:func:`supported_value` read Table VI's printed savings ratios as evidence.
+:func:`grows_geometrically` and :func:`growth_readings` tabulate three readings of the
+claim that the vector length "does not increase appreciably" (Sec. III.B).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from projtrack._validation import as_int, as_real
+from projtrack.jpda import count_feasible_events, vector_size
+
+from .optables import half_up
+
+__all__ = ["multiplication_rules", "rule_fits", "multiplication_rule_table",
+           "table5_additions_rule", "table5_additions_proof", "ratio_fits", "supported_value",
+           "grows_geometrically", "growth_readings"]
+
+Cell = tuple[int, int]
+Counts = Mapping[Cell, tuple[int, int]]
+
+
+def _cell(k: object, name: str = "k") -> Cell:
+    if not isinstance(k, tuple) or len(k) != 2:
+        raise TypeError(f"{name} must be a tuple (m, T), got {k!r}")
+    return as_int(k[0], f"{name}[0]", minimum=1), as_int(k[1], f"{name}[1]", minimum=1)
+
+
+def multiplication_rules() -> dict[str, Callable[[int, int], int]]:
+    """Candidate multiplication counts of the conventional enumeration (Table IV).
+
+    Each rule maps ``(m, T)`` to the number of feasible events of eq. (1)
+    (:func:`projtrack.jpda.count_feasible_events`) times the multiplications per
+    feasibility matrix: ``T - 1`` (one product over the targets), ``m - 1`` (over the
+    rows) or ``m`` (as the text says).
+    """
+    return {"T - 1 (per target)": lambda m, T: count_feasible_events(m, T) * (T - 1),
+            "m - 1 (per row)": lambda m, T: count_feasible_events(m, T) * (m - 1),
+            "m (the text)": lambda m, T: count_feasible_events(m, T) * m}
+
+
+def rule_fits(rule: Callable[[int, int], int], printed: Counts, index: int = 1,
+              exclude: Iterable[Cell] = ()) -> tuple[int, list[Cell]]:
+    """How many cells of ``printed`` (component ``index``) ``rule(m, T)`` equals, and the misfits.
+
+    Cells in ``exclude`` (e.g. the cell that calibrated the rule) are not judged.
+    Returns ``(number of fitting cells, list of misfitting cells)``, in ``printed``'s order.
+    """
+    if not callable(rule):
+        raise TypeError(f"rule must be callable, got {type(rule).__name__}")
+    index = as_int(index, "index", minimum=0, maximum=1)
+    skip = {_cell(k, "exclude[]") for k in exclude}
+    judged = [k for k in printed if _cell(k, "printed key") not in skip]
+    misfits = [k for k in judged if rule(*k) != printed[k][index]]
+    return len(judged) - len(misfits), misfits
+
+
+def multiplication_rule_table(printed: Counts, cells: Sequence[Cell] = ((7, 3), (7, 7))) -> pd.DataFrame:
+    """One row per rule of :func:`multiplication_rules`: cells of ``printed`` (Table IV) it fits.
+
+    Columns: ``cells of Table IV equal`` (multiplications) and the rule's value at each of
+    ``cells``, labelled ``m = 7, T = 3`` or ``m = T = 7``.
+    """
+    cells = [_cell(k, "cells[]") for k in cells]
+    rows = []
+    for name, f in multiplication_rules().items():
+        row = {"multiplications per matrix": name,
+               "cells of Table IV equal": rule_fits(f, printed)[0]}
+        for m, T in cells:
+            row[f"m = T = {m}" if m == T else f"m = {m}, T = {T}"] = f(m, T)
+        rows.append(row)
+    return pd.DataFrame(rows).set_index("multiplications per matrix")
+
+
+def table5_additions_rule(m: int, T: int) -> int:
+    """Table V additions from Table III: ``m T sum_{k=0}^{T-2} V(m - 1, T - k)``.
+
+    ``V`` is :func:`projtrack.jpda.vector_size`; ``m`` and ``T`` are at least 2.
+    """
+    m = as_int(m, "m", minimum=2)
+    T = as_int(T, "T", minimum=2)
+    return m * T * sum(vector_size(m - 1, T - k) for k in range(T - 1))
+
+
+def table5_additions_proof(k: Cell, ours: Counts, printed: Counts) -> tuple[bool, str]:
+    """Does Table III's rule prove the printed Table V additions at cell ``k`` a misprint?
+
+    Proven when :func:`table5_additions_rule` reproduces the printed additions of every
+    other cell of ``printed``, all of them are multiples of ``m T`` while the printed value
+    at ``k`` is not, and the rule gives our count ``ours[k]``. Returns ``(proven, text)``,
+    the text giving the numbers.
+    """
+    k = _cell(k)
+    if k not in printed or k not in ours:
+        raise ValueError(f"k = {k} must be a cell of both ours and printed")
+    others = [q for q in printed if q != k]
+    fits = sum(table5_additions_rule(*q) == printed[q][0] for q in others)
+    multiples = sum(printed[q][0] % (q[0] * q[1]) == 0 for q in others)
+    mT = k[0] * k[1]
+    p = printed[k][0]
+    rule_k = table5_additions_rule(*k)
+    proven = (fits == len(others) and multiples == len(others) and p % mT != 0
+              and rule_k == ours[k][0])
+    terms = " + ".join(str(vector_size(k[0] - 1, k[1] - i)) for i in range(k[1] - 1))
+    text = (f"the rule additions = mT sum_(k=0..T-2) V(m-1, T-k) (V: Table III sizes) reproduces "
+            f"{fits}/{len(others)} other printed additions cells and {multiples}/{len(others)} of them "
+            f"are multiples of mT; the printed {p} is not ({p}/{mT} = "
+            f"{p / mT:.2f}); the rule gives {mT} x ({terms}) = {rule_k}")
+    return proven, text
+
+
+def ratio_fits(printed: Sequence[float], num: Sequence[int], den: Sequence[int]) -> bool:
+    """Does a printed Table VI cell equal ``num / den`` rounded half-up, for both components?
+
+    ``printed``, ``num`` and ``den`` are (additions, multiplications) pairs; the rounding
+    is :func:`~projtrack.experiments.jpda.optables.half_up`.
+    """
+    pairs = [tuple(x) for x in (printed, num, den)]
+    if any(len(x) != 2 for x in pairs):
+        raise ValueError("printed, num and den must be (additions, multiplications) pairs")
+    return all(half_up(a, b) == as_real(p, "printed[]") for a, b, p in zip(num, den, printed))
+
+
+def supported_value(fits_ours: bool, fits_printed: bool) -> str:
+    """Which value Table VI supports: ``"ours"``, ``"ours+paper"``, ``"paper"`` or ``""`` (neither)."""
+    if not isinstance(fits_ours, (bool, np.bool_)) or not isinstance(fits_printed, (bool, np.bool_)):
+        raise TypeError("fits_ours and fits_printed must be booleans")
+    return {(True, False): "ours", (True, True): "ours+paper",
+            (False, True): "paper", (False, False): ""}[bool(fits_ours), bool(fits_printed)]
+
+
+def grows_geometrically(lengths: Mapping[int, float] | pd.Series, start: int = 5,
+                        factor: float = 1.9) -> bool:
+    """True when ``lengths`` (keyed by ``n``) grows by at least ``factor`` at every step from ``start``.
+
+    The steps run from ``n = start`` to the largest ``n`` (at least one step needed).
+    """
+    start = as_int(start, "start")
+    factor = as_real(factor, "factor", 0, low_open=True)
+    s = pd.Series(lengths).sort_index().loc[start:].to_numpy(dtype=float)
+    if len(s) < 2:
+        raise ValueError(f"lengths must hold at least two values from n = {start}")
+    return bool((s[1:] / s[:-1] >= factor).all())
+
+
+def _span(r: Sequence[int]) -> str:
+    return f"{r[0]}..{r[-1]}"
+
+
+def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
+                    sizes: Sequence[int] = range(3, 8), t_range: Sequence[int] = range(3, 13),
+                    fixed_m: Sequence[int] = (3, 4)) -> pd.DataFrame:
+    """Three readings of "the vector length does not increase appreciably", with a baseline.
+
+    1. absolute, along ``m = T``: the claim holds unless :func:`grows_geometrically` judges
+       ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.optables.vector_growth`
+       table) geometric; the baseline ``n + 1`` passes.
+    2. relative to eq. (1): the length over the event count falls along ``m = T`` in
+       ``diag``; the baseline (eq. (1) over itself) fails.
+    3. in ``T`` at fixed ``m``: the length stays ``<= 2^m`` for ``m`` in ``sizes`` and
+       ``T`` in ``t_range``; the baseline (eq. (1) itself) fails.
+
+    One row per reading, with the values shown (``fixed_m`` are the rows printed for
+    reading 3), ``claim holds`` and ``baseline passes``.
+    """
+    if not isinstance(growth, pd.DataFrame) or "vector length" not in growth:
+        raise TypeError("growth must be a vector_growth table (a DataFrame with 'vector length')")
+    diag, sizes, t_range, fixed_m = ([as_int(x, f"{nm}[]", minimum=1) for x in r] for nm, r in
+                                     (("diag", diag), ("sizes", sizes), ("t_range", t_range),
+                                      ("fixed_m", fixed_m)))
+    if len(diag) < 2 or not sizes or not t_range or not fixed_m:
+        raise ValueError("diag needs two sizes; sizes, t_range and fixed_m must not be empty")
+    lengths = growth["vector length"]
+    n = lengths.index
+    vec_geometric = grows_geometrically(lengths)
+    baseline_geometric = grows_geometrically({i: i + 1 for i in n})
+    step = lengths.iloc[-1] / lengths.iloc[-2]
+    rel = [vector_size(i, i) / count_feasible_events(i, i) for i in diag]
+    rel_falls = bool(np.all(np.diff(rel) < 0))
+    rel_baseline_falls = bool(np.all(np.diff(np.ones(len(diag))) < 0))  # eq. (1) / eq. (1)
+    in_T_bounded = all(vector_size(m, T) <= 2**m for m in sizes for T in t_range)
+    in_T_baseline_bounded = all(count_feasible_events(m, T) <= 2**m for m in sizes for T in t_range)
+    return pd.DataFrame([
+        {"reading": "1. absolute, along m = T",
+         "values": ", ".join(str(vector_size(i, i)) for i in diag)
+         + f" (m = T = {_span(diag)}; x{step:.2f} from {n[-2]} to {n[-1]})",
+         "claim holds": not vec_geometric, "baseline passes": not baseline_geometric},
+        {"reading": "2. relative to eq. (1)",
+         "values": ", ".join(f"{r:.2g}" for r in rel) + f" (m = T = {_span(diag)})",
+         "claim holds": rel_falls, "baseline passes": rel_baseline_falls},
+        {"reading": "3. in T at fixed m",
+         "values": "; ".join(f"m = {m}: " + ", ".join(str(vector_size(m, T)) for T in sizes)
+                             for m in fixed_m)
+         + f" (T = {_span(sizes)}); <= 2^m up to T = {t_range[-1]} for m = {_span(sizes)}: "
+         + str(in_T_bounded),
+         "claim holds": in_T_bounded, "baseline passes": in_T_baseline_bounded},
+    ]).set_index("reading")
