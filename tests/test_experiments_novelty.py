@@ -127,6 +127,123 @@ def test_novel_pixel_scores_against_ground_truth():
         ex.novel_pixel_scores(recs, masks[:2], fg[:2], 3)
 
 
+# --- summaries --------------------------------------------------------------------------------
+G3, G2 = "first eigenimage, Fig. 3 settings", "first eigenimage, Fig. 2 settings"
+
+
+def _seed_table():
+    """Four hand-made draws with the columns synthetic_draws returns."""
+    s = pd.DataFrame({
+        "n_2": [0.001, 0.002, 0.003, 0.004], "frame 2 novel": [False, False, True, False],
+        "n_4": [0.002, 0.003, 0.004, 0.005], "frame 4 novel": [True, True, True, False],
+        "F_4,1": [0.99, 0.98, 0.97, np.nan], "rank at 4": [1, 2, 1, 1],
+        "paper's order at 2-4": [True, False, False, False], "updates, frames 2-7": [0, 2, 3, 1],
+        "every frame >= 8 novel": [True, True, False, True], "entry marked": [True, False, False, False],
+        "n_8": [0.005, 0.006, 0.007, 0.008], "max eigenimages kept": [1, 2, 1, 1],
+        "same updates under both settings": [True, False, False, False]})
+    for j, (a3, a2) in {10: ([0.1, 0.1, 0.5, 0.2], [0.3, 0.2, 0.4, 0.3]),
+                        20: ([0.2, 0.1, 0.3, 0.4], [0.1, 0.2, 0.4, 0.5])}.items():
+        s[f"ghost {j}: {G3}"], s[f"ghost {j}: {G2}"] = a3, a2
+        s[f"ghost {j}: running temporal mean"] = [0.0, 0.3, 0.3, 0.3]
+        s[f"ghost {j}: frame 1"] = [1.0] * 4
+    return s
+
+
+def test_quartiles_and_fractions_text():
+    assert ex.quartiles([1, 2, 3, 4, np.nan]) == "2.5000 [1.7500, 3.2500]"
+    assert ex.quartiles([1.0], 1) == "1.0 [1.0, 1.0]"
+    rec = _recs([True, False])
+    assert ex.fractions_text(rec[0]) == "[0.900000, 0.100000]"
+    assert ex.fractions_text(rec[1]) == "none (not novel)"
+    with pytest.raises(TypeError, match="FrameRecord"):
+        ex.fractions_text(0.5)
+    with pytest.raises(ValueError, match="digits"):
+        ex.quartiles([1.0], -1)
+
+
+def test_fig2_fractions_and_summary():
+    s = _seed_table()
+    fr = ex.fig2_fractions(s)
+    assert fr == {"frame 2 not novel": 0.75, "frame 4 novel, one eigenimage": 0.5,
+                  "paper's order at 2-4": 0.25, "every frame >= 8 novel": 0.75, "entry marked": 0.25}
+    table = ex.fig2_seed_summary(s)
+    col = table["synthetic, 4 draws"]
+    assert col["frame 2 not novel (fraction of draws)"] == "0.75"
+    assert col["F_4,1 where frame 4 is novel (3 draws), median [quartiles]"] == "0.980000 [0.975000, 0.985000]"
+    assert col["updates among frames 2-7, median [range]"] == "1.5 [0, 3]"
+    assert col["max eigenimages kept (largest over draws)"] == "2"
+    assert table.loc["n_8, median [quartiles]", "paper"] == "0.0058"
+    with pytest.raises(ValueError, match="entry marked"):
+        ex.fig2_fractions(s.drop(columns="entry marked"))
+    with pytest.raises(TypeError, match="DataFrame"):
+        ex.fig2_seed_summary(s.to_dict())
+    with pytest.raises(ValueError, match="at least one"):
+        ex.fig2_fractions(s.iloc[:0])
+
+
+def test_cleaner_fraction_counts_only_draws_whose_updates_differ():
+    frac, n = ex.cleaner_fraction(_seed_table())
+    assert n == 3 and frac == pytest.approx(2 / 3)      # draws 1 and 3 (draw 0 updates the same)
+    same = _seed_table().assign(**{"same updates under both settings": True})
+    frac, n = ex.cleaner_fraction(same)
+    assert n == 0 and np.isnan(frac)
+    with pytest.raises(ValueError, match="ghost 30"):
+        ex.cleaner_fraction(_seed_table(), at=(30,))
+
+
+def test_ghost_table_matches_ghost_study_and_rms_ratio():
+    frames, bg = _toy_sequence()
+    masks = np.zeros(frames.shape, bool)
+    masks[:, 4:8, :] = True
+    recs = nv.process_sequence(frames, 0.001, 0.9995)
+    real = ex.ghost_study(frames, bg, masks, recs, recs, at=(5, 12))
+    t = ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(5, 12))
+    assert list(t.index) == [G3, G2, "running temporal mean", "frame 1"]
+    assert t.loc["frame 1", "real: ghost area, frame 12"] == round(real[12]["frame 1"], 2)
+    assert t.loc["frame 1", "real: RMS ratio at 12"] == round(ex.rms_ratio(frames[0], frames, bg), 3)
+    assert t.loc[G3, "synthetic: ghost area, frame 10, median [10-90 %]"] == "0.15 [0.10, 0.41]"
+    assert list(t["synthetic: passes at 10 and 20 (fraction)"]) == [0.5, 0.25, 0.25, 0.0]
+    with pytest.raises(ValueError, match="real_ghosts lacks"):
+        ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(7,))
+    with pytest.raises(ValueError, match="ghost 30"):
+        ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(5,), synthetic_at=(30,))
+
+
+def test_threshold_sensitivity_equals_ghost_area_per_threshold():
+    bg = np.zeros((4, 4))
+    masks = np.zeros((3, 4, 4), bool)
+    masks[0, 0, :2] = True
+    masks[1, 0, 2:] = True
+    masks[2, 1, :2] = True
+    img = np.zeros((4, 4))
+    img[0] = [10.0, 20.0, 40.0, 0.0]
+    per_frame = np.stack([img, img, 2 * img])
+    t = ex.threshold_sensitivity({"one": img, "moving": per_frame}, bg, masks, at=(2, 3),
+                                 thresholds=(8, 16, 32))
+    assert list(t.index) == [8, 16, 32]
+    assert list(t.columns) == ["one, frame 2", "moving, frame 2", "one, frame 3", "moving, frame 3"]
+    assert t.loc[8.0, "one, frame 2"] == 1.5          # 3 pixels above 8 on the paths, 2 px per frame
+    assert t.loc[32.0, "moving, frame 3"] == 1.0   # 2 * img: 40 and 80 above 32
+    assert t.loc[16.0, "one, frame 3"] == round(ex.ghost_area(img, bg, masks[:3].any(axis=0), 2.0, 16), 2)
+    with pytest.raises(ValueError, match="images"):
+        ex.threshold_sensitivity({"short": per_frame[:1]}, bg, masks, at=(2,))
+    with pytest.raises(ValueError, match="at"):
+        ex.threshold_sensitivity({"one": img}, bg, masks, at=(4,))
+    with pytest.raises(TypeError, match="mapping"):
+        ex.threshold_sensitivity([img], bg, masks)
+
+
+def test_draw_verdict_and_note_state_the_half_rule():
+    assert ex.draw_verdict(True, 0.5) == "qualitative"
+    assert ex.draw_verdict(True, 0.49) == "differs"
+    assert ex.draw_verdict(False, 1.0) == "differs"
+    assert ex.verdict_note(True, 0.6) == "seen on both stand-ins"
+    assert ex.verdict_note(False, 0.0) == "not seen: not on the real video, in none of the draws"
+    assert ex.verdict_note(True, 0.25) == "not seen: only in 25% of the draws"
+    with pytest.raises(ValueError, match="fraction"):
+        ex.draw_verdict(True, 1.5)
+
+
 # --- printed numbers ----------------------------------------------------------------------------
 def test_frame_pair_has_the_asked_novelty_and_energy():
     a, b = ex.frame_pair(0.01, r=1.2)

@@ -4,6 +4,7 @@ Modules:
 
 - :mod:`~projtrack.experiments.novelty.routes`: the KL algorithms against exact oracles (VIP vs large matrix, recursion vs batch, near-duplicate frames) and streaming baselines.
 - :mod:`~projtrack.experiments.novelty.street`: the street-scene study of Figs. 2-3 (readings per frame, synthetic Monte Carlo draws, ghost areas, jitter sensitivity, novel pixels vs ground truth).
+- :mod:`~projtrack.experiments.novelty.summaries`: tables of the street-scene study over the synthetic draws and the real video (Fig. 2 summary, ghost areas, T_f sensitivity) and the seen-on-both verdict rule.
 - :mod:`~projtrack.experiments.novelty.printed`: the report's printed Fig. 2 numbers (V_2, F_4, F_8) recomputed from its printed novelties.
 - :mod:`~projtrack.experiments.novelty.realvideo`: readings of the real plaza video (residual location, contrast calibration, rank margin, energy kept).
 - :mod:`~projtrack.experiments.novelty.aircraft`: Table 2 and the rank claim on rendered aircraft (novelty table, mean-image baseline, recognition by m eigenimages, noise studies).
@@ -23,6 +24,8 @@ from .routes import near_duplicate_study, route_errors, streaming_comparison, vi
 from .street import (FIG2_SETTINGS, FIG3_SETTINGS, PIXEL_THRESHOLD, entry_marked, fig2_stats,
                      ghost_area, ghost_study, jitter_draw, jitter_sensitivity, novel_pixel_scores,
                      order_2_4, record_table, synthetic_draw, synthetic_draws)
+from .summaries import (cleaner_fraction, draw_verdict, fig2_fractions, fig2_seed_summary,
+                        fractions_text, ghost_table, quartiles, threshold_sensitivity, verdict_note)
 
 __all__ = [
     # routes
@@ -31,6 +34,9 @@ __all__ = [
     "FIG2_SETTINGS", "FIG3_SETTINGS", "PIXEL_THRESHOLD", "ghost_area", "ghost_study", "order_2_4",
     "entry_marked", "fig2_stats", "synthetic_draw", "synthetic_draws", "record_table",
     "jitter_draw", "jitter_sensitivity", "novel_pixel_scores",
+    # summaries
+    "quartiles", "fractions_text", "fig2_fractions", "fig2_seed_summary", "ghost_table",
+    "cleaner_fraction", "threshold_sensitivity", "draw_verdict", "verdict_note",
     # printed
     "PRINTED_V1", "PRINTED_V2", "frame_pair", "second_fraction", "novelty_from_vip",
     "frame4_table", "frame8_table",
