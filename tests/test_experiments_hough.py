@@ -220,3 +220,74 @@ def test_noise_plane_and_target_peaks():
         assert r["bias"] == 0 and r["perfect ratio on bias"] >= 5 - 1e-9  # no bias: at least 5 (spills only raise it)
     with pytest.raises(ValueError, match="window_bias"):
         ex.target_peaks(np.random.default_rng(9), np.zeros((3, 3)))
+
+
+def _synthetic_sweep():
+    """A two-rule, two-setting sweep with known stds: errors +-1 (std ~1.15) in every column."""
+    import pandas as pd
+
+    E = np.array([[1.0] * 4, [-1.0] * 4, [1.0] * 4, [-1.0] * 4])
+    full = np.array([True, True, False, True])
+    raw, rows = {}, []
+    for stop in ("75 % rule", "all points"):
+        for T in (0.25, 0.1):
+            raw[(stop, 10.0, T)] = (E, full)
+            # pred below the std at T = 0.1 for x only; rounding lifts x' above it
+            rows.append({"stop": stop, "speed": 10.0, "T": T, "pred_x": 2.0 if T == 0.25 else 1.0,
+                         "predr_x": 2.0, "pred_y": 2.0, "pred_vx": 2.0, "predr_vx": 2.0, "pred_vy": 2.0})
+    return raw, pd.DataFrame(rows)
+
+
+def test_readings_table_counts_every_reading_and_the_claim():
+    raw, table = _synthetic_sweep()
+    stops = ex.STOPS[:2]
+    rows = ex.readings_table(raw, table, stops, slack=0)
+    assert len(rows) == 2 * 2 * 2
+    assert [r["stopping rule"] for r in rows[:4]] == ["75 % rule"] * 4
+    assert [(r["rounding in Eqs. (8), (12)"], r["targets"]) for r in rows[:4]] == [
+        (False, "all 4"), (False, "seen in every frame"), (True, "all 4"), (True, "seen in every frame")]
+    assert list(rows[0])[3:7] == ["within: y", "within: vy", "within: x", "within: vx"]
+    # x' misses at T = 0.1 without rounding only
+    assert rows[0]["within: x"] == 1 and rows[0]["within: y"] == 2 and not rows[0]["claim holds"]
+    assert rows[2]["within: x"] == 2 and rows[2]["claim holds"]
+    assert ex.readings_table(raw, table, stops, slack=1)[0]["claim holds"]
+    with pytest.raises(ValueError, match="raw"):
+        ex.readings_table({}, table, stops)
+    with pytest.raises(ValueError, match="slack"):
+        ex.readings_table(raw, table, stops, slack=-1)
+    with pytest.raises(ValueError, match="stops"):
+        ex.readings_table(raw, table, [("75 % rule",)])
+
+
+def test_baseline_within_and_closest_margin():
+    # Eq. (8): sqrt((v T)^2 / 12 + 0.25); a quarter of the track, v * 5 / 4, is far larger
+    assert ex.baseline_within([5.0, 30.0], [0.25, 0.025]) == 0
+    # a short track under a large jitter: the guess (1 px) is within sqrt(4 / 12 + 4)
+    assert ex.baseline_within([1.0], [2.0], total_time=4.0) == 0
+    assert ex.baseline_within([1.0], [2.0], total_time=4.0, jitter_sigma=2.0) == 1
+    with pytest.raises(ValueError, match="speeds"):
+        ex.baseline_within([0.0], [0.25])
+    raw, table = _synthetic_sweep()
+    s_all = np.array([1.0, -1.0, 1.0, -1.0]).std(ddof=1)
+    s_full = np.array([1.0, -1.0, -1.0]).std(ddof=1)
+    expected = min(abs(s / p - 1) for s in (s_all, s_full) for p in (1.0, 2.0))
+    assert ex.closest_margin(raw, table, ex.STOPS[:2]) == pytest.approx(expected)
+    with pytest.raises(ValueError, match="no setting"):
+        ex.closest_margin(raw, table, ex.STOPS[2:])
+
+
+def test_rule_summary_means_and_formatted_rows():
+    res = [{"r": {"plain": (5, 2, 1), "thresholded": (4, 1, 0)}},
+           {"r": {"plain": (3, 4, 1), "thresholded": (4, 1, 0)}}]
+    rows, means, dist = ex.rule_summary([(res, ("r",))])
+    assert [(r["rule"], r["HT"], r["scenes"]) for r in rows] == [("r", "plain", 2), ("r", "thresholded", 2)]
+    assert np.array_equal(means[("r", "plain")], [4.0, 3.0, 1.0])
+    assert dist[("r", "thresholded")].shape == (2, 3)
+    assert rows[0]["true found (of 5)"] == "4.00 +- 1.41" and rows[0]["scenes with 5 of 5"] == "50%"
+    assert rows[1]["false confirmed"] == "0.00 +- 0.00"
+    with pytest.raises(ValueError, match="not in the results"):
+        ex.rule_summary([(res, ("other",))])
+    with pytest.raises(ValueError, match="2 scenes"):
+        ex.rule_summary([(res[:1], ("r",))])
+    with pytest.raises(TypeError, match="rules"):
+        ex.rule_summary([(res, "r")])

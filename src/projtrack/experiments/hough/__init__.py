@@ -17,7 +17,7 @@
 from __future__ import annotations
 
 from projtrack.experiments.hough.accuracy import (ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, accuracy_target,
-                                                  within_counts)
+                                                  baseline_within, closest_margin, readings_table, within_counts)
 from projtrack.experiments.hough.continuous import continuous_run, never_detected
 from projtrack.experiments.hough.optical import (OPT_PLANES, SKIMAGE_RULES, composite_image, exact_hough,
                                                  match_peaks, optics_trial, peer_trial, skimage_cells, skimage_trial)
@@ -25,7 +25,7 @@ from projtrack.experiments.hough.salvo import (SALVO_TIMES, reading_trial, salvo
                                                speeds_by_target)
 from projtrack.experiments.hough.scoring import evaluate_initiation, match_lines
 from projtrack.experiments.hough.thresholded import (noise_plane, noisy_scene, plain_and_thresholded, roc_trial,
-                                                     rule_counts, target_peaks)
+                                                     rule_counts, rule_summary, target_peaks)
 
 __all__ = [
     "match_lines",
@@ -36,6 +36,9 @@ __all__ = [
     "ROUND_VAR",
     "accuracy_sweep",
     "within_counts",
+    "readings_table",
+    "baseline_within",
+    "closest_margin",
     "SALVO_TIMES",
     "salvo_scene",
     "speeds_by_target",
@@ -49,6 +52,7 @@ __all__ = [
     "target_peaks",
     "rule_counts",
     "roc_trial",
+    "rule_summary",
     "composite_image",
     "exact_hough",
     "match_peaks",

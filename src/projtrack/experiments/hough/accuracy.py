@@ -3,7 +3,10 @@
 :func:`accuracy_target` is one target (one Monte Carlo trial), :func:`accuracy_experiment`
 runs one speed and frame time through :func:`projtrack.montecarlo.run`, :func:`accuracy_sweep` the
 grid of Figs. 7-10 under several stopping rules, :func:`within_counts` counts the
-settings whose experimental standard deviations stay within the predicted ones.
+settings whose experimental standard deviations stay within the predicted ones,
+:func:`readings_table` does so under every reading (stopping rule x pixel rounding x
+targets in view throughout), :func:`baseline_within` is the no-data baseline and
+:func:`closest_margin` how close the closest of those comparisons comes.
 """
 
 from __future__ import annotations
@@ -17,7 +20,8 @@ from projtrack._validation import as_int, as_real, as_rng
 from projtrack.hough import TrackInitiator, detect_peaks, estimate_track, hough_transform, track_covariance
 from projtrack.scenes.boost import frame_times, render_frames, straight_targets
 
-__all__ = ["accuracy_target", "accuracy_experiment", "STOPS", "ROUND_VAR", "accuracy_sweep", "within_counts"]
+__all__ = ["accuracy_target", "accuracy_experiment", "STOPS", "ROUND_VAR", "accuracy_sweep", "within_counts",
+           "readings_table", "baseline_within", "closest_margin"]
 
 
 def accuracy_target(rng: np.random.Generator, speed: float, frame_time: float, *, total_time: float = 5.0,
@@ -206,3 +210,88 @@ def within_counts(raw: dict, table: object, stop_name: str, rounding: bool,
             n += int(e.size > 1 and e.std(ddof=1) <= pred)
         out[k] = n
     return out
+
+
+def _rule_names(stops: Sequence[tuple[float | None, str, str]]) -> list[str]:
+    names = []
+    for stop in stops:
+        if not isinstance(stop, tuple) or len(stop) != 3 or not isinstance(stop[1], str):
+            raise ValueError(f"stops must hold (stop_fraction, name, dx_schedule) triples, got {stop!r}")
+        names.append(stop[1])
+    if not names:
+        raise ValueError("stops must not be empty")
+    return names
+
+
+def readings_table(raw: dict, table: object, stops: Sequence[tuple[float | None, str, str]] = STOPS, *,
+                   slack: int = 2) -> list[dict[str, object]]:
+    """The within counts of :func:`within_counts` under every reading of the paper's claim.
+
+    For every stopping rule of ``stops`` (``(stop_fraction, name, dx_schedule)`` triples,
+    as given to :func:`accuracy_sweep`), without and with the pixel rounding in Eqs. (8)
+    and (12), over all targets and over the targets seen in every frame, one row:
+    ``stopping rule``, ``rounding in Eqs. (8), (12)``, ``targets`` (``"all <n>"`` or
+    ``"seen in every frame"``), ``within: y``, ``within: vy``, ``within: x``,
+    ``within: vx`` (numbers of settings) and ``claim holds``: every quantity within in at
+    least all but ``slack`` of the rule's settings. ``raw`` and ``table`` (a DataFrame of
+    the rows) come from :func:`accuracy_sweep`.
+    """
+    if not isinstance(raw, dict) or not raw:
+        raise ValueError("raw must be the non-empty dict returned by accuracy_sweep")
+    slack = as_int(slack, "slack", minimum=0)
+    names = _rule_names(stops)
+    n_targets = len(next(iter(raw.values()))[0])
+    rows = []
+    for stop_name in names:
+        n_set = sum(k[0] == stop_name for k in raw)
+        for rounding in (False, True):
+            for full_only in (False, True):
+                w = within_counts(raw, table, stop_name, rounding, full_only)
+                rows.append({"stopping rule": stop_name, "rounding in Eqs. (8), (12)": rounding,
+                             "targets": "seen in every frame" if full_only else f"all {n_targets}",
+                             **{f"within: {k}": w[k] for k in ("y", "vy", "x", "vx")},
+                             "claim holds": min(w.values()) >= n_set - slack})
+    return rows
+
+
+def baseline_within(speeds: Sequence[float], frame_times: Sequence[float], *, total_time: float = 5.0,
+                    jitter_sigma: float = 0.5) -> int:
+    """The no-data baseline: in how many settings a guess needing no data is within Eq. (8).
+
+    The guess puts the target a quarter of the track length, ``speed * total_time / 4``,
+    off along the track; the count is over every speed and frame time ``T`` (with
+    ``N_p = round(total_time / T)`` frames) of settings where that error is at most the
+    predicted standard deviation of ``x'``. A useful estimate must do better.
+    """
+    speeds = [as_real(v, "speeds", 0, low_open=True) for v in speeds]
+    frame_times = [as_real(T, "frame_times", 0, low_open=True) for T in frame_times]
+    total_time = as_real(total_time, "total_time", 0, low_open=True)
+    return int(sum(v * total_time / 4 <= float(np.sqrt(track_covariance(v, T, int(round(total_time / T)),
+                                                                          jitter_sigma=jitter_sigma)["var_x"]))
+                   for v in speeds for T in frame_times))
+
+
+def closest_margin(raw: dict, table: object, stops: Sequence[tuple[float | None, str, str]] = STOPS) -> float:
+    """How close the closest std comes to its prediction over every reading.
+
+    For every setting of the rules of ``stops``, every quantity (``x'``, ``y'``,
+    ``v_x'``, ``v_y'``), all targets and those seen in every frame, and the prediction
+    with and without pixel rounding, ``|std / prediction - 1|``; returns the smallest. A
+    margin near zero would make a within count of :func:`readings_table` turn on
+    floating-point rounding. ``raw`` and ``table`` come from :func:`accuracy_sweep`.
+    """
+    if not isinstance(raw, dict) or not raw:
+        raise ValueError("raw must be the non-empty dict returned by accuracy_sweep")
+    margins = []
+    for stop_name in _rule_names(stops):
+        for (sn, v, T), (E, full) in raw.items():
+            if sn != stop_name:
+                continue
+            row = table[(table["stop"] == sn) & (table["speed"] == v) & (table["T"] == T)].iloc[0]  # type: ignore[index]
+            for i, pk in enumerate(("x", "y", "vx", "vy")):
+                for e in (E[:, i], E[full, i]):
+                    for pred in {row[f"pred_{pk}"], row.get(f"predr_{pk}", row[f"pred_{pk}"])}:
+                        margins.append(abs(e.std(ddof=1) / pred - 1))
+    if not margins:
+        raise ValueError("no setting of raw belongs to a rule of stops")
+    return min(margins)

@@ -5,12 +5,13 @@
 runs both initiators on it; :func:`noise_plane` (the bias of a noise-only plane),
 :func:`target_peaks` (how the targets' peaks stand against that bias), :func:`rule_counts`
 and :func:`roc_trial` are the Monte Carlo trials of the chapter's tables (generator
-first, for ``projtrack.montecarlo.run``).
+first, for ``projtrack.montecarlo.run``); :func:`rule_summary` turns the trials of
+:func:`rule_counts` into per-rule statistics over the scenes.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -19,8 +20,10 @@ from projtrack.experiments.hough.salvo import SALVO_TIMES
 from projtrack.experiments.hough.scoring import evaluate_initiation
 from projtrack.hough import TrackInitiator, hough_transform, line_through, local_average
 from projtrack.scenes.boost import BoostTrajectory, Frames, in_view_launches, render_frames
+from projtrack.stable import fmt
 
-__all__ = ["noisy_scene", "plain_and_thresholded", "noise_plane", "target_peaks", "rule_counts", "roc_trial"]
+__all__ = ["noisy_scene", "plain_and_thresholded", "noise_plane", "target_peaks", "rule_counts", "roc_trial",
+           "rule_summary"]
 
 
 def noisy_scene(rng: np.random.Generator, n_noise: int = 20,
@@ -115,3 +118,49 @@ def target_peaks(rng: np.random.Generator, window_bias: object) -> list[dict[str
                     "perfect ratio on bias": N / (A + B[ii, j]),
                     "real best ratio": float(R[max(ii - 1, 0):ii + 2][:, cols].max())})
     return out
+
+
+def rule_summary(groups: Sequence[tuple[Sequence[Mapping], Sequence[str]]],
+                 hts: Sequence[str] = ("plain", "thresholded")) -> tuple[list[dict], dict, dict]:
+    """Per-rule statistics over scenes of :func:`rule_counts` trials.
+
+    ``groups`` is a sequence of ``(results, rules)`` pairs: ``results`` a list of
+    :func:`rule_counts` outputs (one per scene), ``rules`` the names of the rules of those
+    results to summarize. For each rule and each HT of ``hts``, in that order:
+
+    Returns
+    -------
+    rows : list of dict
+        ``rule``, ``scenes`` (their number), ``HT``, ``true found (of 5)``, ``false lines``,
+        ``false confirmed`` as ``"mean +- std"`` over the scenes (sample std, two decimals)
+        and ``scenes with 5 of 5`` (a percentage).
+    means : dict
+        ``(rule, HT) -> array([found, false lines, false confirmed])``, means over the scenes.
+    dist : dict
+        ``(rule, HT) -> (n_scenes, 3)`` array of those counts, one row per scene.
+    """
+    rows, means, dist = [], {}, {}
+    for group in groups:
+        if not isinstance(group, tuple) or len(group) != 2:
+            raise ValueError(f"groups must hold (results, rules) pairs, got {group!r}")
+        res, rules = group
+        if isinstance(rules, str):
+            raise TypeError(f"rules must be a sequence of rule names, not the string {rules!r}")
+        if len(res) < 2:
+            raise ValueError(f"each group needs at least 2 scenes for a std, got {len(res)}")
+        for rule in rules:
+            for name in hts:
+                try:
+                    a = np.array([r[rule][name] for r in res], dtype=float)
+                except KeyError as exc:
+                    raise ValueError(f"rule {rule!r} or HT {name!r} is not in the results") from exc
+                if a.ndim != 2 or a.shape[1] != 3:
+                    raise ValueError(f"results must hold (found, false lines, false confirmed) triples, got shape {a.shape}")
+                means[(rule, name)] = a.mean(axis=0)
+                dist[(rule, name)] = a
+                rows.append({"rule": rule, "scenes": len(res), "HT": name,
+                             "true found (of 5)": f"{fmt(a[:, 0].mean(), '.2f')} +- {fmt(a[:, 0].std(ddof=1), '.2f')}",
+                             "scenes with 5 of 5": f"{fmt((a[:, 0] == 5).mean(), '.0%')}",
+                             "false lines": f"{fmt(a[:, 1].mean(), '.2f')} +- {fmt(a[:, 1].std(ddof=1), '.2f')}",
+                             "false confirmed": f"{fmt(a[:, 2].mean(), '.2f')} +- {fmt(a[:, 2].std(ddof=1), '.2f')}"})
+    return rows, means, dist
