@@ -340,3 +340,97 @@ def test_k_range_p_row_and_p_table():
 def test_fmt_p_bounds_tiny_probabilities():
     assert fmt_p(1e-13) == "< 1e-12" and fmt_p(1e-13, eq=True) == "< 1e-12"
     assert fmt_p(0.0123) == "0.012" and fmt_p(0.0123, eq=True) == "= 0.012"
+
+
+# ----------------------------------------------------------------------------- the sensitivity study
+import pandas as pd  # noqa: E402
+
+from projtrack.experiments.neuralnet import (SENSITIVITY_RULES, sensitivity_readings, sensitivity_seed,  # noqa: E402
+                                             sensitivity_study, sensitivity_verdicts)
+
+
+def test_sensitivity_readings_grid():
+    r = sensitivity_readings([64, 256], [300], ["ball", "radial"], coarse_units=[256], parallel_unit=64)
+    labels = [x[0] for x in r]
+    assert labels == ["as printed, ball, unit 64", "as printed, ball, unit 256", "as printed, ball, unit 300",
+                      "as printed, radial, unit 256", "as printed, radial, unit 300",
+                      "no self term, ball, unit 64", "no self term, ball, unit 256",
+                      "exact energy change, ball, unit 64", "exact energy change, ball, unit 256",
+                      "parallel updates, ball, unit 64"]
+    assert r[5][1:] == (64, "ball", {"self_coupling": False}) and r[-1][3] == {"mode": "parallel"}
+    with pytest.raises(ValueError, match="laws"):
+        sensitivity_readings([64], [], ["ball", "ball"])
+    with pytest.raises(ValueError, match="units"):
+        sensitivity_readings([], [64], ["ball"])
+    with pytest.raises(TypeError, match="laws"):
+        sensitivity_readings([64], [64], "ball")
+
+
+def test_sensitivity_seed_shares_noise_free_cells():
+    assert list(SENSITIVITY_RULES)[1] == "no self term"
+    assert sensitivity_seed("no self term", 256, 2, 3, 5.0) == [3000, 1, 256, 2, 3]
+    assert sensitivity_seed("no self term", 256, 2, 3, 0.0) == [3000, 1, 256, 0, 0]
+    with pytest.raises(ValueError, match="rule"):
+        sensitivity_seed("other", 256, 0, 0, 0.0)
+    with pytest.raises(ValueError, match="law_index"):
+        sensitivity_seed("as printed", 256, -1, 0, 2.5)
+
+
+def test_sensitivity_study_runs_each_cell_with_its_seed():
+    laws = ["ball", "radial"]
+    readings = [("as printed, ball, unit 256", 256, "ball", {}), ("as printed, radial, unit 256", 256, "radial", {}),
+                ("no self term, ball, unit 1024", 1024, "ball", {"self_coupling": False})]
+    sens = sensitivity_study(readings, [0.0, 2.5], laws, 2, 2)
+    assert list(sens["reading"]) == [r[0] for r in readings for _ in range(2)]
+    assert list(sens["noise %"]) == [0.0, 2.5] * 3
+    for (label, u, law, kw), (_, s) in zip(readings, sens.groupby("reading", sort=False)):
+        for i, (n, ok, wrong) in enumerate(zip(s["noise %"], s["successes"], s["converged but wrong"])):
+            seed = sensitivity_seed(label.split(",")[0], u, laws.index(law), i, n)
+            assert (ok, wrong) == sensitivity_cell(n, u, "ball" if n == 0 else law, kw, seed, 2, 2)
+    # the noise-free cell of a rule and unit is shared by the noise laws
+    assert sens.iloc[0]["successes"] == sens.iloc[2]["successes"]
+    assert (sens["success %"] == 50 * sens["successes"]).all()
+    with pytest.raises(ValueError, match="noise law"):
+        sensitivity_study(readings, [0.0], ["ball"], 2, 1)
+    with pytest.raises(ValueError, match="readings"):
+        sensitivity_study([("as printed", 256)], [0.0], laws, 2, 1)
+
+
+def test_sensitivity_verdicts_apply_the_criterion():
+    sens = pd.DataFrame({"reading": ["a", "a", "b", "b"], "noise %": [0.0, 2.5] * 2,
+                         "successes": [4, 4, 4, 0], "converged but wrong": [0, 0, 0, 2]})
+    v = sensitivity_verdicts(sens, [10, 9], 4)
+    assert list(v["reading"]) == ["a", "b"] and list(v["2.5%"]) == ["100", "0"]
+    assert list(v["wrong convergences"]) == ["0/8", "2/8"]
+    assert v["P(table >= paper's)"].tolist() == pytest.approx([1.0, 0.0])
+    assert v["reproduces Table 1"].tolist() == [True, False]
+    assert v.loc[1, "at 95% high"] == pytest.approx(p_table([1.0, rate_ci(0, 4)[1]], [10, 9]))
+    with pytest.raises(ValueError, match="paper_k"):
+        sensitivity_verdicts(sens, [10], 4)
+    with pytest.raises(TypeError, match="DataFrame"):
+        sensitivity_verdicts(sens.to_dict(), [10, 9], 4)
+    with pytest.raises(ValueError, match="columns"):
+        sensitivity_verdicts(sens.drop(columns="successes"), [10, 9], 4)
+
+
+def test_table1_readings_score_each_level():
+    from projtrack.experiments.neuralnet import table1_readings
+    res = {0.0: {"correct": np.array([True, True, False, False]), "converged": np.array([True, True, True, False]),
+                 "iterations": np.array([10, 20, 30, 99]), "status": np.array(["converged"] * 3 + ["wandering"]),
+                 "optimal_correct": np.array([True, False])},
+           2.5: {"correct": np.zeros(4, bool), "converged": np.zeros(4, bool), "iterations": np.zeros(4, int),
+                 "status": np.array(["oscillating"] * 4), "optimal_correct": np.array([True])}}
+    t = table1_readings(res, [10, 9], [19, 16])
+    assert list(t["noise %"]) == [0.0, 2.5] and list(t["success %"]) == [50.0, 0.0]
+    assert t.loc[0, "iterations"] == 20.0 and np.isnan(t.loc[1, "iterations"])
+    assert t.loc[0, "converged but wrong"] == 1 and t.loc[0, "wandering"] == 1 and t.loc[1, "oscillating"] == 4
+    assert list(t["optimum correct %"]) == [50.0, 100.0]
+    lo, hi = rate_ci(2, 4)
+    assert t.loc[0, "95% %"] == f"{100 * lo:.1f}-{100 * hi:.1f}" and t.loc[0, "P(k >= paper's)"] == fmt_p(p_row(0.5, 10))
+    assert t.loc[0, "k/10 95% range"] == "{}-{}".format(*k_range(lo, hi))
+    with pytest.raises(ValueError, match="levels"):
+        table1_readings(res, [10], [19])
+    with pytest.raises(ValueError, match="lacks"):
+        table1_readings({0.0: {"correct": np.ones(2, bool)}}, [10], [19])
+    with pytest.raises(TypeError, match="mapping"):
+        table1_readings([1, 2], [10, 9], [19, 16])

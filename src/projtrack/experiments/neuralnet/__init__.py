@@ -5,9 +5,11 @@ Modules (everything public is re-exported here):
 * :mod:`~projtrack.experiments.neuralnet.table1`: the Sec. VI simulation (data sets, net starts,
   success and the reference solvers' scores);
 * :mod:`~projtrack.experiments.neuralnet.criterion`: the exact binomial criterion that judges a
-  ten-run table against the paper's Table 1;
+  ten-run table against the paper's Table 1, and each noise level's runs read against its row;
 * :mod:`~projtrack.experiments.neuralnet.studies`: the chapter's Monte Carlo studies (Table 1 at
   several noise levels, readings of the paper, Fig. 5 runs, the fixed-point bound);
+* :mod:`~projtrack.experiments.neuralnet.sensitivity`: Table 1 under a grid of readings of the paper
+  (unit of D, update rule, noise law), each judged by the criterion;
 * :mod:`~projtrack.experiments.neuralnet.comparison`: the net against the reference solvers of the
   same cost, against noise and against the number of targets;
 * :mod:`~projtrack.experiments.neuralnet.degraded`: the net on data with spurious measurements and
@@ -15,8 +17,10 @@ Modules (everything public is re-exported here):
 """
 
 from .comparison import METHODS, accuracy, comparison_cells, comparison_trial, noise_sweep, size_sweep
-from .criterion import fmt_p, k_range, p_row, p_table, rate_ci
+from .criterion import fmt_p, k_range, p_row, p_table, rate_ci, table1_readings
 from .degraded import DegradedDraw, degraded_study, degraded_trial, draw_degraded
+from .sensitivity import (SENSITIVITY_RULES, sensitivity_readings, sensitivity_seed, sensitivity_study,
+                          sensitivity_verdicts)
 from .studies import (TABLE1_KEYS, bound_direct_check, bound_trial, direct_check_trial, evolution_trial,
                       fixed_point_bound, sensitivity_cell, sensitivity_cells, sensitivity_trial, table1_study,
                       table1_trial, truth_index)
@@ -35,6 +39,11 @@ __all__ = [
     "sensitivity_trial",
     "sensitivity_cell",
     "sensitivity_cells",
+    "SENSITIVITY_RULES",
+    "sensitivity_readings",
+    "sensitivity_seed",
+    "sensitivity_study",
+    "sensitivity_verdicts",
     "evolution_trial",
     "truth_index",
     "bound_trial",
@@ -46,6 +55,7 @@ __all__ = [
     "p_row",
     "p_table",
     "fmt_p",
+    "table1_readings",
     "METHODS",
     "comparison_trial",
     "comparison_cells",

@@ -8,20 +8,22 @@ count of successes in every row:
 * :func:`k_range`: the counts out of ten that rates in an interval give with probability >= 95%;
 * :func:`p_row`, :func:`p_table`: the probability of one row, and of the whole table, at least
   as good as the paper's (optionally with no run converging to a wrong assignment);
-* :func:`fmt_p`: such a probability printed to two significant digits.
+* :func:`fmt_p`: such a probability printed to two significant digits;
+* :func:`table1_readings`: the simulations of each noise level read against the paper's row.
 """
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
+import pandas as pd
 from scipy import stats
 
 from projtrack._validation import as_int, as_probability
 from projtrack.stable import fmt
 
-__all__ = ["rate_ci", "k_range", "p_row", "p_table", "fmt_p"]
+__all__ = ["rate_ci", "k_range", "p_row", "p_table", "fmt_p", "table1_readings"]
 
 
 def rate_ci(k: int, n: int) -> tuple[float, float]:
@@ -94,3 +96,56 @@ def p_table(rates: Sequence[float], paper_k: Sequence[int], wrong: Sequence[floa
 def fmt_p(p: float, eq: bool = False) -> str:
     """A probability to two significant digits, ``"< 1e-12"`` below that (``"= "`` in front with ``eq``)."""
     return "< 1e-12" if p < 1e-12 else ("= " if eq else "") + fmt(float(p), ".2g")
+
+
+def table1_readings(results: Mapping[float, Mapping[str, np.ndarray]], paper_k: Sequence[int],
+                    paper_iterations: Sequence[int]) -> pd.DataFrame:
+    """The simulations of each noise level read against the paper's row of Table 1.
+
+    Parameters
+    ----------
+    results : mapping noise level -> dict of arrays
+        Per level, the per-run arrays ``correct``, ``converged``, ``iterations``, ``status`` and
+        ``optimal_correct`` (as from :func:`projtrack.experiments.neuralnet.table1_study`).
+    paper_k : sequence of int
+        The paper's successes out of ten, one per level (in the order of ``results``).
+    paper_iterations : sequence of int
+        The paper's mean iterations, one per level.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per level: ``noise %``, ``paper k/10``, ``success %`` with its 95% interval
+        (:func:`rate_ci`), the ``k/10 95% range`` of ten runs at rates in it (:func:`k_range`),
+        ``P(k >= paper's)`` at the rate and ``at 95% high`` (:func:`p_row`, as text), the mean
+        ``iterations`` of the converged runs, ``paper it.``, counts of ``converged``,
+        ``converged but wrong``, ``oscillating`` and ``wandering`` runs, and
+        ``optimum correct %`` (the optimum of the cost is the true assignment).
+    """
+    if not isinstance(results, Mapping):
+        raise TypeError(f"results must be a mapping of noise level -> arrays, got {type(results).__name__}")
+    paper_k, paper_iterations = list(paper_k), list(paper_iterations)
+    if not (len(results) == len(paper_k) == len(paper_iterations)) or not paper_k:
+        raise ValueError(f"results, paper_k and paper_iterations must have one (and the same) number of levels, "
+                         f"got {len(results)}, {len(paper_k)}, {len(paper_iterations)}")
+    rows = []
+    for (n, r), k_p, it_p in zip(results.items(), paper_k, paper_iterations):
+        missing = {"correct", "converged", "iterations", "status", "optimal_correct"} - set(r)
+        if missing:
+            raise ValueError(f"results[{n}] lacks {sorted(missing)}")
+        n_sim = len(r["correct"])
+        k = int(r["correct"].sum())
+        lo, hi = rate_ci(k, n_sim)
+        klo, khi = k_range(lo, hi)
+        it = r["iterations"][r["converged"]]
+        rows.append({"noise %": n, "paper k/10": k_p,
+                     "success %": 100 * k / n_sim, "95% %": f"{100 * lo:.1f}-{100 * hi:.1f}",
+                     "k/10 95% range": f"{klo}-{khi}",
+                     "P(k >= paper's)": fmt_p(p_row(k / n_sim, k_p)), "at 95% high": fmt_p(p_row(hi, k_p)),
+                     "iterations": float(it.mean()) if it.size else float("nan"), "paper it.": int(it_p),
+                     "converged": int(r["converged"].sum()),
+                     "converged but wrong": int((r["converged"] & ~r["correct"]).sum()),
+                     "oscillating": int((r["status"] == "oscillating").sum()),
+                     "wandering": int((r["status"] == "wandering").sum()),
+                     "optimum correct %": 100 * float(np.mean(r["optimal_correct"]))})
+    return pd.DataFrame(rows)

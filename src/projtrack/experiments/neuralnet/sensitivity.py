@@ -1,0 +1,225 @@
+"""The sensitivity study of the Table 1 chapter: Table 1 under other readings of the paper.
+
+The paper pins neither the unit of the distance tensor D, nor the details of the update rule,
+nor the law of the measurement noise. A *reading* fixes all three; the study runs the paper's
+simulations under each reading of a grid and judges each against Table 1 with the chapter's
+criterion (:mod:`projtrack.experiments.neuralnet.criterion`):
+
+* :data:`SENSITIVITY_RULES`: the update rules of the grid and their options of
+  :func:`projtrack.experiments.neuralnet.simulate`;
+* :func:`sensitivity_readings`: the grid of readings (rule, noise law, unit);
+* :func:`sensitivity_seed`: the seed of one cell (reading x noise level);
+* :func:`sensitivity_study`: every cell run (noise-free cells shared across noise laws), as a
+  table of successes and wrong convergences;
+* :func:`sensitivity_verdicts`: one row per reading, its rates and its probability of a ten-run
+  table at least as good as the paper's.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import pandas as pd
+
+from projtrack._validation import as_int, as_probability, as_real
+
+from .criterion import p_table, rate_ci
+from .studies import sensitivity_cells
+
+__all__ = ["SENSITIVITY_RULES", "sensitivity_readings", "sensitivity_seed", "sensitivity_study",
+           "sensitivity_verdicts"]
+
+#: The update rules of the grid (name -> options of ``simulate``); a rule's position is its seed id.
+SENSITIVITY_RULES: dict[str, dict[str, Any]] = {
+    "as printed": {},
+    "no self term": {"self_coupling": False},
+    "exact energy change": {"exact_energy": True},
+    "parallel updates": {"mode": "parallel"},
+}
+
+_SEED = 3000
+
+
+def _units(units: object, name: str, empty: bool = False) -> list[int]:
+    if isinstance(units, (str, bytes)) or not hasattr(units, "__iter__"):
+        raise TypeError(f"{name} must be a sequence of ints, got {type(units).__name__}")
+    out = [as_int(u, f"{name}[{j}]", minimum=1) for j, u in enumerate(units)]
+    if not out and not empty:
+        raise ValueError(f"{name} must not be empty")
+    return out
+
+
+def _laws(laws: object) -> list[str]:
+    if isinstance(laws, str) or not hasattr(laws, "__iter__"):
+        raise TypeError(f"laws must be a sequence of noise-law names, got {type(laws).__name__}")
+    laws = list(laws)
+    if not laws or not all(isinstance(law, str) for law in laws) or len(set(laws)) != len(laws):
+        raise ValueError(f"laws must be distinct noise-law names, got {laws!r}")
+    return laws
+
+
+def sensitivity_readings(units: Sequence[int], fine_units: Sequence[int], laws: Sequence[str],
+                         coarse_units: Sequence[int] = (256, 1024, 16384), parallel_unit: int = 256
+                         ) -> list[tuple[str, int, str, dict[str, Any]]]:
+    """The grid of readings: ``(label, unit, noise_law, options)`` per reading.
+
+    Parameters
+    ----------
+    units : sequence of int
+        Units of D (pixels) for every rule under the first law (``laws[0]``, the ball).
+    fine_units : sequence of int
+        Extra units of the rule as printed, under every law.
+    laws : sequence of str
+        The noise laws; the first one is the paper's (the other rules run under it only).
+    coarse_units : sequence of int
+        The units of ``units`` the rule as printed runs under the other laws.
+    parallel_unit : int
+        The one unit of the parallel update (first law).
+
+    Returns
+    -------
+    list of (label, unit, noise_law, options)
+        ``label`` is ``"<rule>, <law>, unit <unit>"`` (the rule, a key of
+        :data:`SENSITIVITY_RULES`, before the first comma). First the rule as printed, law by
+        law over the sorted units; then the other rules under the first law; last the parallel
+        update.
+    """
+    units = _units(units, "units")
+    fine = _units(fine_units, "fine_units", empty=True)
+    coarse = _units(coarse_units, "coarse_units", empty=True)
+    laws = _laws(laws)
+    parallel_unit = as_int(parallel_unit, "parallel_unit", minimum=1)
+    out = [(f"as printed, {law}, unit {u}", u, law, {}) for law in laws
+           for u in sorted(set(units if law == laws[0] else coarse) | set(fine))]
+    out += [(f"{name}, {laws[0]}, unit {u}", u, laws[0], dict(SENSITIVITY_RULES[name]))
+            for name in ["no self term", "exact energy change"] for u in units]
+    out.append((f"parallel updates, {laws[0]}, unit {parallel_unit}", parallel_unit, laws[0],
+                dict(SENSITIVITY_RULES["parallel updates"])))
+    return out
+
+
+def sensitivity_seed(rule: str, unit: int, law_index: int, level_index: int, noise_percent: float) -> list[int]:
+    """The seed of one cell: ``[3000, rule id, unit, law index, level index]``.
+
+    A noise-free cell does not depend on the noise law: its seed is ``[3000, rule id, unit, 0, 0]``
+    whatever the law and level index. The rule id is the rule's position in
+    :data:`SENSITIVITY_RULES`.
+    """
+    if rule not in SENSITIVITY_RULES:
+        raise ValueError(f"rule must be one of {list(SENSITIVITY_RULES)}, got {rule!r}")
+    rule_id = list(SENSITIVITY_RULES).index(rule)
+    unit = as_int(unit, "unit", minimum=1)
+    if float(noise_percent) == 0.0:
+        return [_SEED, rule_id, unit, 0, 0]
+    return [_SEED, rule_id, unit, as_int(law_index, "law_index", minimum=0),
+            as_int(level_index, "level_index", minimum=0)]
+
+
+def sensitivity_study(readings: Sequence[tuple[str, int, str, dict[str, Any]]], noise_levels: Sequence[float],
+                      laws: Sequence[str], n_runs: int, chunk: int) -> pd.DataFrame:
+    """Successes and wrong convergences of ``n_runs`` simulations per reading and noise level.
+
+    Each cell (reading x noise level) is
+    :func:`projtrack.experiments.neuralnet.sensitivity_cell` seeded by :func:`sensitivity_seed`
+    (``law_index`` the law's position in ``laws``); noise-free cells of one rule and unit are run
+    once (under the first law) and shared by every reading. The nets of all cells of one rule
+    run as one batch (:func:`projtrack.experiments.neuralnet.sensitivity_cells`).
+
+    Parameters
+    ----------
+    readings : sequence of (label, unit, noise_law, options)
+        As from :func:`sensitivity_readings`; the rule is the label before its first comma.
+    noise_levels : sequence of float
+        Noise levels (percent).
+    laws : sequence of str
+        The noise laws (their order gives the seeds).
+    n_runs, chunk : int
+        Simulations per cell and per Monte Carlo trial (``chunk`` divides ``n_runs``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per reading and level, in the order of ``readings`` then ``noise_levels``:
+        ``reading``, ``rule``, ``noise law``, ``unit (px)``, ``noise %``, ``successes``,
+        ``success %``, ``converged but wrong``.
+    """
+    laws = _laws(laws)
+    levels = [as_real(n, f"noise_levels[{j}]", 0.0) for j, n in enumerate(noise_levels)]
+    if not levels:
+        raise ValueError("noise_levels must not be empty")
+    n_runs = as_int(n_runs, "n_runs", minimum=1)
+    readings = list(readings)
+    if not readings:
+        raise ValueError("readings must not be empty")
+    for j, r in enumerate(readings):
+        if not isinstance(r, (tuple, list)) or len(r) != 4 or not isinstance(r[0], str):
+            raise ValueError(f"readings[{j}] must be (label, unit, noise_law, options), got {r!r}")
+        if r[2] not in laws:
+            raise ValueError(f"readings[{j}]: noise law {r[2]!r} is not one of laws {laws}")
+
+    def key(label: str, u: int, n: float) -> tuple:
+        return (label.split(",")[0], u) if n == 0.0 else (label, n)
+
+    cells: dict[tuple, tuple] = {}
+    for label, u, law, kw in readings:
+        rule = label.split(",")[0]
+        for i, n in enumerate(levels):
+            if key(label, u, n) not in cells:
+                seed = sensitivity_seed(rule, u, laws.index(law), i, n)
+                cells[key(label, u, n)] = (n, u, laws[0] if n == 0.0 else law, kw, seed)
+    counts = dict(zip(cells, sensitivity_cells(list(cells.values()), n_runs, chunk)))
+    rows = []
+    for label, u, law, kw in readings:
+        for n in levels:
+            ok, wrong = counts[key(label, u, n)]
+            rows.append({"reading": label, "rule": label.split(",")[0], "noise law": law, "unit (px)": u,
+                         "noise %": n, "successes": ok, "success %": 100 * ok / n_runs, "converged but wrong": wrong})
+    return pd.DataFrame(rows)
+
+
+def sensitivity_verdicts(sens: pd.DataFrame, paper_k: Sequence[int], n_runs: int, p_min: float = 0.05
+                         ) -> pd.DataFrame:
+    """Each reading judged against the paper's Table 1.
+
+    Parameters
+    ----------
+    sens : pandas.DataFrame
+        The table of :func:`sensitivity_study`.
+    paper_k : sequence of int
+        The paper's successes out of ten, one per noise level of ``sens``.
+    n_runs : int
+        Simulations per cell of ``sens``.
+    p_min : float
+        The criterion's threshold on the probability of a table at least as good as the paper's.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per reading (in the order of ``sens``): ``reading``, the success % per noise
+        level (``"<n>%"``, as text), ``wrong convergences`` (``"<count>/<runs>"``),
+        ``P(table >= paper's)`` (:func:`~projtrack.experiments.neuralnet.p_table` at the rates),
+        ``at 95% high`` (at the upper ends of their 95% intervals), ``reproduces Table 1`` (the
+        first at least ``p_min``), ``P(... and no wrong stop)``.
+    """
+    if not isinstance(sens, pd.DataFrame):
+        raise TypeError(f"sens must be a pandas.DataFrame, got {type(sens).__name__}")
+    missing = {"reading", "noise %", "successes", "converged but wrong"} - set(sens.columns)
+    if missing:
+        raise ValueError(f"sens lacks the columns {sorted(missing)}")
+    n_runs = as_int(n_runs, "n_runs", minimum=1)
+    p_min = as_probability(p_min, "p_min")
+    paper_k = list(paper_k)
+    verdicts = []
+    for label, s in sens.groupby("reading", sort=False):
+        if len(s) != len(paper_k):
+            raise ValueError(f"reading {label!r} has {len(s)} noise levels, paper_k has {len(paper_k)}")
+        p_hat = (s["successes"] / n_runs).tolist()
+        w_hat = (s["converged but wrong"] / n_runs).tolist()
+        p_succ, p_both = p_table(p_hat, paper_k), p_table(p_hat, paper_k, w_hat)
+        p_high = p_table([rate_ci(k, n_runs)[1] for k in s["successes"]], paper_k)
+        verdicts.append({"reading": label,
+                         **{f"{n}%": f"{100 * k / n_runs:.0f}" for n, k in zip(s["noise %"], s["successes"])},
+                         "wrong convergences": f"{int(s['converged but wrong'].sum())}/{n_runs * len(s)}",
+                         "P(table >= paper's)": p_succ, "at 95% high": p_high,
+                         "reproduces Table 1": bool(p_succ >= p_min), "P(... and no wrong stop)": p_both})
+    return pd.DataFrame(verdicts)
