@@ -337,6 +337,10 @@ def test_optical_vip_bad_inputs():
         jpda.optical_vip_stage(vec, col, sched, 16, noise_std=-1.0)
     with pytest.raises(ValueError, match="vec must be a 1-D"):
         jpda.optical_vip_stage(np.ones((4, 4)), col, sched, 16)
+    with pytest.raises(ValueError, match="rng"):  # noise needs a generator
+        jpda.optical_vip_stage(vec, col, sched, 16, noise_std=0.1)
+    with pytest.raises(TypeError, match="rng"):  # a legacy RandomState is the wrong kind
+        jpda.optical_vip_stage(vec, col, sched, 16, noise_std=0.1, rng=np.random.RandomState(0))
     for bad_q in (0, 5, 7):
         with pytest.raises(ValueError, match="q must lie"):
             jpda.optical_vip_schedule(4, 6, bad_q)

@@ -70,6 +70,10 @@ def test_bad_inputs_are_named():
         fmt("1.0")
     with pytest.raises(TypeError, match="spec"):
         fmt(1.0, 3)
+    with pytest.raises(TypeError, match="x must be a real number"):
+        fmt(True)
+    # NaN and infinities are printed, not refused
+    assert (fmt(float("nan")), fmt(-np.inf)) == ("nan", "-inf")
 
 
 def test_tiny_prints_bound_below_floor_and_value_above():

@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 from joblib import Parallel, delayed
 
+from projtrack._validation import as_int, as_rng, only_value_errors
+
 __all__ = ["run", "default_n_jobs", "default_scheduler", "full_size", "size"]
 
 _TRUE = ("1", "true", "yes", "on")
@@ -80,11 +82,8 @@ def size(book: int, full: int) -> int:
     -------
     int
     """
-    for name, v in (("book", book), ("full", full)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-            raise TypeError(f"{name} must be an int, got {type(v).__name__}")
-        if v < 1:
-            raise ValueError(f"{name} must be >= 1, got {v}")
+    book = as_int(book, "book", minimum=1)
+    full = as_int(full, "full", minimum=1)
     if full < book:
         raise ValueError(f"full ({full}) must be >= book ({book})")
     return int(full if full_size() else book)
@@ -123,15 +122,11 @@ def run(fn: Callable[..., Any], n_trials: int, rng: np.random.Generator, *args: 
     """
     if not callable(fn):
         raise TypeError(f"fn must be callable, got {type(fn).__name__}")
-    if isinstance(n_trials, bool) or not isinstance(n_trials, (int, np.integer)):
-        raise TypeError(f"n_trials must be an int, got {type(n_trials).__name__}")
-    if n_trials < 0:
-        raise ValueError(f"n_trials must be >= 0, got {n_trials}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    n_jobs = default_n_jobs() if n_jobs is None else n_jobs
-    if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0:
-        raise ValueError(f"n_jobs must be a non-zero int (joblib convention), got {n_jobs!r}")
+    n_trials = as_int(n_trials, "n_trials", minimum=0)
+    rng = as_rng(rng)
+    n_jobs = only_value_errors(as_int, default_n_jobs() if n_jobs is None else n_jobs, "n_jobs")
+    if n_jobs == 0:
+        raise ValueError("n_jobs must be a non-zero int (joblib convention), got 0")
     scheduler = default_scheduler() if scheduler is None else scheduler
     children = rng.spawn(int(n_trials))
     if scheduler is not None:

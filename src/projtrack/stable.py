@@ -21,19 +21,27 @@ from typing import Any
 
 import numpy as np
 
+from projtrack._validation import as_int, as_real, only_value_errors
+
 __all__ = ["tidy", "fmt", "tiny", "below"]
 
 
 def _check(decimals: object, sig: object, atol: object) -> None:
     if decimals is not None and sig is not None:
         raise ValueError("give decimals or sig, not both")
-    for name, v in (("decimals", decimals), ("sig", sig)):
-        if v is not None and (isinstance(v, bool) or not isinstance(v, numbers.Integral)):
-            raise TypeError(f"{name} must be an int or None, got {type(v).__name__}")
-    if sig is not None and sig < 1:
-        raise ValueError(f"sig must be at least 1, got {sig}")
-    if isinstance(atol, bool) or not isinstance(atol, numbers.Real) or not (atol >= 0) or math.isinf(atol):
-        raise ValueError(f"atol must be a finite number >= 0, got {atol!r}")
+    if decimals is not None:
+        as_int(decimals, "decimals")
+    if sig is not None:
+        as_int(sig, "sig", minimum=1)
+    only_value_errors(as_real, atol, "atol", 0)
+
+
+def _as_number(x: object, name: str = "x") -> float:
+    """``x`` as a float; NaN and infinities pass (they are printed as such)."""
+    try:
+        return as_real(x, name, finite=False)
+    except ValueError:  # without bounds, as_real refuses a real number only when it is NaN
+        return math.nan
 
 
 def _round_array(a: np.ndarray, decimals: int | None, sig: int | None, atol: float) -> np.ndarray:
@@ -131,12 +139,10 @@ def fmt(x: Any, spec: str = ".6g", *, atol: float = 0.0) -> str:
     >>> fmt(-0.25, ".1f")
     '-0.2'
     """
-    if isinstance(x, bool) or not isinstance(x, numbers.Real):
-        raise TypeError(f"x must be a real number, got {type(x).__name__}")
+    v = _as_number(x)
     if not isinstance(spec, str):
         raise TypeError(f"spec must be a str, got {type(spec).__name__}")
     _check(None, None, atol)
-    v = float(x)
     if atol > 0 and abs(v) <= atol:
         v = 0.0
     s = format(v + 0.0 if v == 0 else v, spec)
@@ -170,11 +176,8 @@ def tiny(x: Any, floor: float = 1e-12, spec: str = ".1e") -> str:
     >>> tiny(-2.5e-5)
     '-2.5e-05'
     """
-    if isinstance(x, bool) or not isinstance(x, numbers.Real):
-        raise TypeError(f"x must be a real number, got {type(x).__name__}")
-    if isinstance(floor, bool) or not isinstance(floor, numbers.Real) or not floor > 0 or not math.isfinite(floor):
-        raise ValueError(f"floor must be a positive finite number, got {floor!r}")
-    v = float(x)
+    v = _as_number(x)
+    only_value_errors(as_real, floor, "floor", 0, low_open=True)
     if not math.isfinite(v):
         return str(v)
     return f"< {floor:.0e}".replace("e-0", "e-") if abs(v) < floor else fmt(v, spec)
@@ -201,11 +204,8 @@ def below(x: Any, tol: float) -> str:
     >>> below(0.02, 1e-3)
     'FAIL: 2.0e-02'
     """
-    if isinstance(x, bool) or not isinstance(x, numbers.Real):
-        raise TypeError(f"x must be a real number, got {type(x).__name__}")
-    if isinstance(tol, bool) or not isinstance(tol, numbers.Real) or not tol > 0 or not math.isfinite(tol):
-        raise ValueError(f"tol must be a positive finite number, got {tol!r}")
-    v = abs(float(x))
+    v = abs(_as_number(x))
+    only_value_errors(as_real, tol, "tol", 0, low_open=True)
     if v < tol:
         return f"< {tol:.0e}".replace("e-0", "e-").replace("e+0", "e")
     return f"FAIL: {v:.1e}"

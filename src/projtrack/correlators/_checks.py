@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from projtrack._validation import as_array, as_real
+from projtrack._validation import as_array, as_real, only_value_errors
 
 
 def as_image(x: object, name: str) -> np.ndarray:
@@ -54,7 +54,4 @@ def as_angles(angles: object, name: str = "angles") -> tuple[float, ...]:
 
 def as_freqs(rho: object) -> np.ndarray:
     """A non-empty 1-D array of finite frequencies (cycles per pixel); a scalar becomes one frequency."""
-    arr = np.atleast_1d(np.asarray(rho, dtype=float))
-    if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)):
-        raise ValueError("rho must be a non-empty 1-D array of finite frequencies (cycles per pixel)")
-    return arr
+    return np.atleast_1d(only_value_errors(as_array, rho, "rho (cycles per pixel)", ndim=(0, 1), allow_empty=False))

@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from scipy.ndimage import maximum_filter
 
-from projtrack._validation import as_shape2
+from projtrack._validation import as_real, as_shape2
 
 from ._checks import as_angles, as_image, as_signal
 from .correlation import _plane_shape, projection_correlation
@@ -66,8 +66,7 @@ def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[flo
     scene = as_image(scene, "scene")
     template = as_image(template, "template")
     angles = as_angles(angles)
-    if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.number)) or not np.isfinite(threshold):
-        raise TypeError(f"threshold must be a finite number, got {threshold!r}")
+    threshold = as_real(threshold, "threshold")
     if zero_mean_template:
         template = template - template.mean()
     if not np.any(template):

@@ -6,7 +6,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_array, as_choice
+from projtrack._validation import as_array, as_choice, as_real, only_value_errors
 
 from .checks import _as_size, _check_Cs, _check_Ys, _dim, _mats, _n_from_dim, _rank, _seq, check_symmetric
 from .halfspace import halfspace_reconstruct
@@ -31,10 +31,9 @@ def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarr
     stretches axis 1 by ``alpha`` and axis 2 by ``1/alpha``, then rotates by ``phi``
     (eq. 22 applied through eq. 3).
     """
-    vals = {"tau": tau, "alpha": alpha, "psi": psi, "phi": phi}
-    for k, v in vals.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
-            raise ValueError(f"{k} must be a finite real number, got {v!r}")
+    # any bad value is a ValueError here, a wrong kind included
+    tau, alpha, psi, phi = (only_value_errors(as_real, v, k)
+                            for k, v in (("tau", tau), ("alpha", alpha), ("psi", psi), ("phi", phi)))
     if alpha == 0:
         raise ValueError("alpha must be non-zero (the stretch is diag(alpha, 1/alpha))")
     return _rot_t(psi) @ (tau * np.eye(2)) @ np.diag([alpha, 1.0 / alpha]) @ _rot_t(phi)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real
+from projtrack._validation import as_array, as_int, as_real, as_rng
 
 from .paper import mu_words
 
@@ -96,7 +96,8 @@ def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
         # within one slot every detector receives at most one product
         out[r[:, 3]] += vec[r[:, 1]] * column[r[:, 2]]
     if noise_std > 0:
-        if not isinstance(rng, np.random.Generator):
+        if rng is None:
             raise ValueError("rng (a numpy.random.Generator) is required when noise_std > 0")
+        rng = as_rng(rng)
         out = out + rng.normal(0.0, noise_std, n_out)
     return out

@@ -4,24 +4,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from projtrack._validation import as_int
+from projtrack._validation import as_array, as_int
 
 
 def _check_D(D: object, batched: bool = False) -> np.ndarray:
-    D = np.asarray(D, dtype=float)
+    D = as_array(D, "D")
     if D.ndim not in ((4, 5) if batched else (4,)):
         raise ValueError(f"D must have shape {'(B,) ' if batched else ''}(N_P - 2, N_M, N_M, N_M), got {D.shape}")
     if not (D.shape[-1] == D.shape[-2] == D.shape[-3]) or D.shape[-4] < 1 or D.shape[-1] < 1:
         raise ValueError(f"D must have shape (..., N_P - 2, N_M, N_M, N_M) with N_P >= 3, got {D.shape}")
-    if not np.all(np.isfinite(D)):
-        raise ValueError("D must be finite")
     if np.any(D < 0):
         raise ValueError("D must be >= 0 (it is a norm, eq. (7))")
     return D
 
 
 def _check_states(X: object, D: np.ndarray, n_targets: int | None = None) -> np.ndarray:
-    X = np.asarray(X, dtype=float)
+    X = as_array(X, "X")
     n_frames = D.shape[-4] + 2
     n_meas = D.shape[-1]
     if X.ndim < 3 or X.shape[-2:] != (n_meas, n_frames):
@@ -31,10 +29,7 @@ def _check_states(X: object, D: np.ndarray, n_targets: int | None = None) -> np.
         raise ValueError(f"X must have N_T = {n_targets} targets, got {X.shape[-3]}")
     if X.shape[-3] > n_meas:
         raise ValueError(f"N_T = {X.shape[-3]} targets need at least as many measurements, got N_M = {n_meas}")
-    if not np.all(np.isfinite(X)):
-        raise ValueError("X must be finite")
     return X
-
 
 
 def _check_square(D: np.ndarray, n_targets: int | None) -> tuple[np.ndarray, int]:

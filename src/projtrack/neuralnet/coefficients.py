@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from projtrack._validation import as_real
+
 __all__ = ["Coefficients", "PAPER_COEFFICIENTS", "PAPER_OFFSET"]
 
 
@@ -20,11 +22,7 @@ class Coefficients:
 
     def __post_init__(self) -> None:
         for name in ("A1", "A2", "A3", "A4"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise TypeError(f"coefficient {name} must be a number, got {type(v).__name__}")
-            if not np.isfinite(v) or v < 0:
-                raise ValueError(f"coefficient {name} must be finite and >= 0, got {v}")
+            as_real(getattr(self, name), f"coefficient {name}", 0)
 
 
 #: Sec. VI: A1 = A2 = A3 = 15, A4 = 1.8.

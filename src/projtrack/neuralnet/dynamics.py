@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_int, as_rng
+from projtrack._validation import as_int, as_real, as_rng
 
 from ._checks import _check_D, _check_states
 from .coefficients import PAPER_OFFSET, Coefficients, _as_coefficients
@@ -70,8 +70,7 @@ def initial_states(rng: np.random.Generator, n_runs: int, n_targets: int, n_meas
     n_frames = as_int(n_frames, "n_frames", 3)
     if n_measurements < n_targets:
         raise ValueError(f"n_measurements ({n_measurements}) must be >= n_targets ({n_targets})")
-    if not (np.isfinite(perturbation) and 0 <= perturbation < 1):
-        raise ValueError(f"perturbation must be in [0, 1), got {perturbation}")
+    perturbation = as_real(perturbation, "perturbation", 0, 1, high_open=True)
     shape = (n_runs, n_targets, n_measurements, n_frames)
     return (1.0 + rng.uniform(-perturbation, perturbation, shape)) / n_measurements
 
@@ -125,8 +124,7 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     B, n_t, n_m, n_p = X.shape
     if D.ndim == 5 and D.shape[0] != B:
         raise ValueError(f"D has {D.shape[0]} tensors for {B} start states")
-    if not np.isfinite(offset):
-        raise ValueError(f"offset must be finite, got {offset}")
+    offset = as_real(offset, "offset")
     max_iter = as_int(max_iter, "max_iter", 1)
     if mode not in ("serial", "parallel"):
         raise ValueError(f"mode must be 'serial' or 'parallel', got {mode!r}")

@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_int
+from projtrack._validation import as_int, as_real
 
 from ._checks import _check_D, _check_square
 from .assignments import _permutation_triples, assignment_cost
@@ -40,8 +40,7 @@ def is_fixed_point(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Se
     Xa = np.asarray(X)
     if not np.all(np.isin(Xa, (0, 1))):
         raise ValueError("X must be binary (0/1)")
-    if not np.isfinite(offset):
-        raise ValueError(f"offset must be finite, got {offset}")
+    offset = as_real(offset, "offset")
     g = update_inputs(Xa, D, coefficients, self_coupling=self_coupling, exact_energy=exact_energy)
     out = np.all((g < offset) == (Xa == 1), axis=(-3, -2, -1))
     return bool(out) if np.ndim(out) == 0 else out
@@ -67,8 +66,7 @@ def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None
         (then inactive neurons could switch on and the statement above does not hold).
     """
     c = _as_coefficients(coefficients)
-    if not np.isfinite(offset):
-        raise ValueError(f"offset must be finite, got {offset}")
+    offset = as_real(offset, "offset")
     if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
         raise TypeError("self_coupling and exact_energy must be bools")
     shift = c.A3 if exact_energy else (0.0 if self_coupling else 2 * c.A3)

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from projtrack._validation import as_choice, as_int, as_real, as_rng
+from projtrack._validation import as_choice, as_count, as_int, as_real, as_rng
 
 __all__ = ["TrackScene", "make_tracks", "perturb", "degrade", "NOISE_LAWS"]
 
@@ -198,9 +198,8 @@ def degrade(rng: np.random.Generator, scene: TrackScene, n_spurious: int = 0, n_
     as_rng(rng)
     if not isinstance(scene, TrackScene):
         raise TypeError(f"scene must be a TrackScene, got {type(scene).__name__}")
-    for name, v in (("n_spurious", n_spurious), ("n_missing", n_missing)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
-            raise ValueError(f"{name} must be an int >= 0, got {v!r}")
+    n_spurious = as_count(n_spurious, "n_spurious", minimum=0)
+    n_missing = as_count(n_missing, "n_missing", minimum=0)
     n_p, n_t, _ = scene.positions.shape
     if n_missing > n_p * n_t:
         raise ValueError(f"n_missing must be <= N_P N_T = {n_p * n_t}, got {n_missing}")
