@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_choice
+from projtrack._validation import as_array, as_choice, only_value_errors
 
 #: The two places ``rho`` may be measured from (see :mod:`projtrack.hough`).
 ORIGINS = ("center", "corner")
@@ -22,19 +22,14 @@ def _check_origin(origin: object) -> str:
 
 def _check_points(points: object, shape: tuple[int, int], name: str = "points",
                   allow_empty: bool = False) -> np.ndarray:
-    try:
-        pts = np.asarray(points, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be an (N, 2) array of (x, y) coordinates") from exc
+    """An ``(N, 2)`` float array of ``(x, y)`` pixel coordinates inside an image of ``shape``."""
+    pts = as_array(points, name, finite=False)
     if pts.size == 0 and pts.ndim <= 2:
         if not allow_empty:
             raise ValueError(f"{name} is empty: there is nothing to transform (pass allow_empty=True "
                              "to get an all-zero Hough plane)")
         return np.zeros((0, 2))
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise ValueError(f"{name} must be an (N, 2) array of (x, y) coordinates, got shape {pts.shape}")
-    if not np.all(np.isfinite(pts)):
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    pts = as_array(pts, name, shape=(None, 2))  # one (x, y) row per point, finite
     h, w = shape
     bad = (pts[:, 0] < 0) | (pts[:, 0] >= w) | (pts[:, 1] < 0) | (pts[:, 1] >= h)
     if np.any(bad):
@@ -77,19 +72,12 @@ def _check_frames(frames: object, shape: tuple[int, int]) -> list[np.ndarray]:
 
 
 def _check_plane(H: object, rhos: object, thetas_deg: object) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    try:
-        Hf = np.asarray(H, dtype=float)
-        r = np.asarray(rhos, dtype=float)
-        t = np.asarray(thetas_deg, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError("H, rhos and thetas_deg must be numeric arrays") from exc
-    if r.ndim != 1 or t.ndim != 1 or r.size < 2 or t.size < 2:
+    """A Hough plane ``H`` (``rho`` along axis 0) and its two axes, as float arrays."""
+    r = as_array(rhos, "rhos", ndim=1)
+    t = as_array(thetas_deg, "thetas_deg", ndim=1)
+    if r.size < 2 or t.size < 2:
         raise ValueError("rhos and thetas_deg must be 1-D arrays with at least 2 samples each")
-    if Hf.shape != (r.size, t.size):
-        raise ValueError(f"H must have shape (len(rhos), len(thetas_deg)) = {(r.size, t.size)}, "
-                         f"got {Hf.shape}")
-    if not (np.all(np.isfinite(Hf)) and np.all(np.isfinite(r)) and np.all(np.isfinite(t))):
-        raise ValueError("H, rhos and thetas_deg must be finite")
+    Hf = as_array(H, "H", shape=(r.size, t.size))  # (len(rhos), len(thetas_deg))
     if np.any(Hf < 0):
         raise ValueError("H must be non-negative (vote counts)")
     if np.any(np.diff(r) <= 0) or np.any(np.diff(t) <= 0):
@@ -98,7 +86,8 @@ def _check_plane(H: object, rhos: object, thetas_deg: object) -> tuple[np.ndarra
 
 
 def _check_hint(heading_hint: object) -> np.ndarray:
-    h = np.asarray(heading_hint, dtype=float)
-    if h.shape != (2,) or not np.all(np.isfinite(h)) or not np.any(h != 0):
+    """The prior direction of motion: a non-zero finite 2-vector (any error is a ValueError)."""
+    h = only_value_errors(as_array, heading_hint, "heading_hint", shape=(2,))
+    if not np.any(h != 0):
         raise ValueError(f"heading_hint must be a non-zero finite 2-vector, got {heading_hint!r}")
     return h

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from projtrack._validation import as_choice, as_probability, as_real, as_shape2
+from projtrack._validation import as_choice, as_count, as_int, as_probability, as_real, as_shape2, only_value_errors
 from projtrack.hough._checks import _check_hint, _check_origin, _check_points, _origin_xy
 
 __all__ = [
@@ -210,13 +210,12 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     if c.ndim != 1 or c.size == 0 or not np.all(np.isfinite(c)) or np.any(c < 0):
         raise ValueError("counts must be a non-empty 1-D array of non-negative counts")
     as_choice(dx_schedule, "dx_schedule", ("double", "step"))
-    if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
-            or (dx_schedule == "double" and (dx_max & (dx_max - 1)) != 0):
+    dx_max = only_value_errors(as_int, dx_max, "dx_max", minimum=1)
+    if dx_schedule == "double" and (dx_max & (dx_max - 1)) != 0:
         raise ValueError(f"dx_max must be an integer >= 1 (a power of two when doubling), got {dx_max!r}")
     confirm_fraction = as_probability(confirm_fraction, "confirm_fraction", low_open=True)
-    stop = confirm_fraction if stop_fraction is None else stop_fraction
-    if isinstance(stop, bool) or not isinstance(stop, (int, float, np.integer, np.floating)) or not (0 < stop <= 1):
-        raise ValueError(f"stop_fraction must be None or in (0, 1], got {stop_fraction!r}")
+    stop = confirm_fraction if stop_fraction is None else only_value_errors(
+        as_probability, stop_fraction, "stop_fraction", low_open=True)
     c = c.astype(float)
     n_ones = int(round(c.sum()))
     if n_ones == 0:
@@ -276,8 +275,7 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
     """
     speed = as_real(speed, "speed", 0)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
-    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or n_frames < 1:
-        raise ValueError(f"n_frames must be a positive int, got {n_frames!r}")
+    n_frames = as_count(n_frames, "n_frames")
     drho = as_real(drho, "drho", 0, low_open=True)
     jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
     TT = n_frames * T if total_time is None else as_real(total_time, "total_time", 0, low_open=True)

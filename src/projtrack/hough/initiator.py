@@ -7,7 +7,7 @@ from math import ceil
 
 import numpy as np
 
-from projtrack._validation import as_probability, as_real, as_shape2
+from projtrack._validation import as_int, as_probability, as_real, as_shape2, only_value_errors
 from projtrack.hough._checks import _check_frames, _check_hint
 from projtrack.hough.estimate import TrackEstimate, estimate_track, strip_projection
 from projtrack.hough.peaks import detect_peaks
@@ -80,21 +80,18 @@ class TrackInitiator:
         self.thresholded = bool(thresholded)
         self.ratio = as_real(ratio, "ratio", 0, low_open=True)
         self.bridge = as_real(bridge, "bridge", 0, low_open=True)
-        if min_votes is not None and (not np.isfinite(min_votes) or min_votes < 0):
-            raise ValueError(f"min_votes must be None or a non-negative number, got {min_votes!r}")
+        if min_votes is not None:
+            only_value_errors(as_real, min_votes, "min_votes", 0)
         self.min_votes = min_votes
         self.p_detect = as_probability(p_detect, "p_detect", low_open=True)
         self.jitter_sigma = as_real(jitter_sigma, "jitter_sigma", 0)
-        if isinstance(dx_max, bool) or not isinstance(dx_max, (int, np.integer)) or dx_max < 1 \
-                or (dx_max & (dx_max - 1)) != 0:
+        self.dx_max = only_value_errors(as_int, dx_max, "dx_max", minimum=1)
+        if (self.dx_max & (self.dx_max - 1)) != 0:
             raise ValueError(f"dx_max must be a power of two >= 1, got {dx_max!r}")
-        self.dx_max = int(dx_max)
         self.confirm_fraction = as_probability(confirm_fraction, "confirm_fraction", low_open=True)
         self.heading_hint = tuple(_check_hint(heading_hint))
-        if exclude_ridge is not None and (isinstance(exclude_ridge, bool)
-                                          or not isinstance(exclude_ridge, (int, np.integer))
-                                          or not 0 <= exclude_ridge < 2):
-            raise ValueError(f"exclude_ridge must be None, 0 or 1 (5 x 5 window), got {exclude_ridge!r}")
+        if exclude_ridge is not None:  # the 5 x 5 window leaves room for r = 0 or 1
+            exclude_ridge = only_value_errors(as_int, exclude_ridge, "exclude_ridge", 0, 1)
         self.exclude_ridge = exclude_ridge
 
     @staticmethod

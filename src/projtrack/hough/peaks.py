@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from projtrack._validation import as_real
+from projtrack._validation import as_int, as_odd_window, as_real, only_value_errors
 from projtrack.hough._checks import _check_plane
 
 __all__ = [
@@ -61,12 +61,11 @@ def local_average(H: object, size: int = 5, *, rhos: object | None = None,
     Hf = np.asarray(H, dtype=float)
     if Hf.ndim != 2:
         raise ValueError(f"H must be 2-D, got shape {Hf.shape}")
-    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or size < 1 or size % 2 == 0:
-        raise ValueError(f"size must be a positive odd int, got {size!r}")
+    size = only_value_errors(as_odd_window, size, "size")
     k = size // 2
     if exclude_ridge is not None:
-        if isinstance(exclude_ridge, bool) or not isinstance(exclude_ridge, (int, np.integer)) \
-                or exclude_ridge < 0 or 2 * exclude_ridge + 1 >= size:
+        exclude_ridge = only_value_errors(as_int, exclude_ridge, "exclude_ridge", minimum=0)
+        if 2 * exclude_ridge + 1 >= size:
             raise ValueError(f"exclude_ridge must be None or an int r >= 0 with 2 r + 1 < size ({size}), "
                              f"got {exclude_ridge!r}")
     wrap = False
@@ -135,9 +134,7 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     bridge = as_real(bridge, "bridge", 0, low_open=True)
     if bridge > ratio:
         raise ValueError(f"bridge ({bridge}) must not exceed ratio ({ratio})")
-    if isinstance(min_votes, bool) or not isinstance(min_votes, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(min_votes) or min_votes < 0:
-        raise ValueError(f"min_votes must be a non-negative number, got {min_votes!r}")
+    min_votes = only_value_errors(as_real, min_votes, "min_votes", 0)
     avg = local_average(Hf, size, rhos=r, thetas_deg=t, exclude_ridge=exclude_ridge)
     with np.errstate(divide="ignore", invalid="ignore"):
         # an empty neighbourhood (possible only with exclude_ridge) under a voted cell: infinite ratio

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from projtrack._validation import as_array, as_real, as_rng
+from projtrack._validation import as_array, as_count, as_int, as_real, as_rng, only_value_errors
 
 __all__ = ["X26", "paper_projections", "static_observations", "dynamic_experiment", "lognormal_noise", "snr_static", "snr_dynamic", "realized_snr_static", "periodic_drive",
            "random_ellipsoid", "random_projection", "rotation", "silhouette_points",
@@ -45,8 +45,7 @@ def rotation(angle: float) -> np.ndarray:
 
 def paper_projections(q: int = 5) -> list[np.ndarray]:
     """The 1-D projections ``C_k = [cos theta_k, sin theta_k]^T``, ``theta_k = (k-1) pi / q`` (Sec. 7.1)."""
-    if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or q < 1:
-        raise ValueError(f"q must be a positive int, got {q!r}")
+    q = as_count(q, "q")
     th = np.arange(q) * np.pi / q
     return [np.array([[np.cos(t)], [np.sin(t)]]) for t in th]
 
@@ -153,13 +152,10 @@ def periodic_drive(n_steps: int, beta: float = 2.0, period: int = 12, rho: float
         Unless ``n_steps`` and ``period`` are positive ints and ``beta``, ``rho`` are
         finite and non-negative.
     """
-    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
-        raise ValueError(f"n_steps must be a positive int, got {n_steps!r}")
-    if isinstance(period, bool) or not isinstance(period, (int, np.integer)) or period < 1:
-        raise ValueError(f"period must be a positive int, got {period!r}")
-    for name, v in (("beta", beta), ("rho", rho)):
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not (np.isfinite(v) and v >= 0):
-            raise ValueError(f"{name} must be a finite non-negative number, got {v!r}")
+    n_steps = as_count(n_steps, "n_steps")
+    period = as_count(period, "period")
+    beta = only_value_errors(as_real, beta, "beta", 0)
+    rho = only_value_errors(as_real, rho, "rho", 0)
     out = []
     for k in range(n_steps):
         s = (1 + np.cos(2 * np.pi * k / period)) / 2
@@ -177,8 +173,7 @@ def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, ma
     """
     from scipy.stats import special_ortho_group
 
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
+    n = as_count(n, "n")
     if not (np.isfinite(min_axis) and np.isfinite(max_axis) and 0 < min_axis <= max_axis):
         raise ValueError(f"need finite 0 < min_axis <= max_axis, got {min_axis!r}, {max_axis!r}")
     as_rng(rng)
@@ -192,9 +187,8 @@ def random_ellipsoid(n: int, rng: np.random.Generator, min_axis: float = 0.5, ma
 
 def random_projection(n: int, m: int, rng: np.random.Generator) -> np.ndarray:
     """A Haar-random ``n x m`` matrix with orthonormal columns (an m-dimensional view)."""
-    for name, v in (("n", n), ("m", m)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-            raise ValueError(f"{name} must be an int, got {v!r}")
+    n = only_value_errors(as_int, n, "n")
+    m = only_value_errors(as_int, m, "m")
     if not (1 <= m <= n):
         raise ValueError(f"need 1 <= m <= n, got n={n}, m={m}")
     as_rng(rng)
@@ -248,8 +242,7 @@ def dynamic_experiment(rng: np.random.Generator, n_steps: int = 24, variance: fl
     """
     from projtrack import ellipsoids as E
 
-    if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
-        raise ValueError(f"n_steps must be an int >= 2 (at least one transition), got {n_steps!r}")
+    n_steps = as_count(n_steps, "n_steps", minimum=2)  # at least one transition
     A = E.shaping_matrix(tau, alpha, psi, phi)
     if drive is None:
         Bs = periodic_drive(n_steps - 1)
@@ -299,10 +292,8 @@ def silhouette_points(X: np.ndarray, C: np.ndarray, n_points: int, noise: float,
     Cm = E.check_orthonormal(C, "C", Xm.shape[0])
     if Cm.shape[1] != 2:
         raise ValueError(f"silhouette_points makes 2-D silhouettes: C must be n x 2, got shape {Cm.shape}")
-    if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 1:
-        raise ValueError(f"n_points must be a positive int, got {n_points!r}")
-    if isinstance(noise, bool) or not isinstance(noise, (int, float, np.integer, np.floating)) or not (np.isfinite(noise) and noise >= 0):
-        raise ValueError(f"noise must be a finite non-negative standard deviation, got {noise!r}")
+    n_points = as_count(n_points, "n_points")
+    noise = only_value_errors(as_real, noise, "noise", 0)  # a standard deviation
     as_rng(rng)
     Y = E.project(Xm, Cm)
     lam, V = np.linalg.eigh(Y)
@@ -384,8 +375,7 @@ def settling_step(errors: object, tol: float = 0.1) -> np.ndarray | int:
     e = np.asarray(errors, dtype=float)
     if e.ndim not in (1, 2) or e.shape[-1] == 0 or not np.all(np.isfinite(e)):
         raise ValueError(f"errors must be a finite array of shape (K,) or (D, K), got shape {e.shape}")
-    if isinstance(tol, bool) or not np.isscalar(tol) or not tol > 0:
-        raise ValueError(f"tol must be a positive number, got {tol!r}")
+    tol = only_value_errors(as_real, tol, "tol", 0, low_open=True, finite=False)
     bad = np.atleast_2d(e) > tol
     K = bad.shape[1]
     out = np.where(bad.any(axis=1), K - np.argmax(bad[:, ::-1], axis=1), 0)
