@@ -419,9 +419,9 @@ def test_fixed_point_inputs_are_validated():
         nn.is_fixed_point(X + 0.5, D)
     with pytest.raises(ValueError, match="offset"):
         nn.is_fixed_point(X, D, offset=np.nan)
-    with pytest.raises(TypeError, match="bools"):
+    with pytest.raises(TypeError, match="must be a bool"):
         nn.update_inputs(X, D, self_coupling="no")
-    with pytest.raises(TypeError, match="bools"):
+    with pytest.raises(TypeError, match="must be a bool"):
         nn.run_net(D, X, exact_energy=1)
     with pytest.raises(ValueError, match="inactive"):
         nn.fixed_point_limit(offset=100.0)

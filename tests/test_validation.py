@@ -130,3 +130,10 @@ def test_only_value_errors_turns_a_wrong_kind_into_value_error():
             V.only_value_errors(V.as_int, bad, "n", minimum=1)
     with pytest.raises(ValueError, match="n must be an int >= 1, got 0"):
         V.only_value_errors(V.as_int, 0, "n", minimum=1)
+
+
+def test_as_bool():
+    assert V.as_bool(np.bool_(True), "flag") is True and V.as_bool(False, "flag") is False
+    for bad in (0, 1, "yes", None, np.array([True])):
+        with pytest.raises(TypeError, match="flag must be a bool"):
+            V.as_bool(bad, "flag")

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "as_bool",
     "as_int",
     "as_count",
     "only_value_errors",
@@ -43,6 +44,13 @@ def _kind(value: object) -> str:
 
 def _is_int(value: object) -> bool:
     return isinstance(value, Integral) and not isinstance(value, (bool, np.bool_))
+
+
+def as_bool(value: object, name: str) -> bool:
+    """A flag: ``True`` or ``False`` (a numpy bool too; 0 and 1 are not flags)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a bool, got {_kind(value)}")
+    return bool(value)
 
 
 def as_int(value: object, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
@@ -226,7 +234,7 @@ def as_array(
             raise ValueError(f"{name} must be a {want} array, got shape {a.shape}")
     if shape is not None:
         if a.ndim != len(shape) or any(s is not None and s != t for s, t in zip(shape, a.shape)):
-            want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
+            want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
             raise ValueError(f"{name} must have shape {want}, got {a.shape}")
     if not allow_empty and a.size == 0:
         raise ValueError(f"{name} must not be empty, got shape {a.shape}")

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from projtrack._validation import as_array, as_int, as_real
+from projtrack._validation import as_array, as_bool, as_int, as_real
 
 __all__ = ["estimate_transitions", "estimate_start", "neighbor_graph", "transitions_from_velocity_field"]
 
@@ -168,8 +168,7 @@ def transitions_from_velocity_field(
     P = as_array(points, "points", ndim=2, finite=False)
     S = len(P)
     k = as_int(n_next, "n_next", minimum=1)
-    if not isinstance(exclude_self, (bool, np.bool_)):
-        raise TypeError(f"exclude_self must be a bool, got {type(exclude_self).__name__}")
+    as_bool(exclude_self, "exclude_self")
     if k > S - int(exclude_self):
         raise ValueError(f"n_next must be <= the number of candidate successors ({S - int(exclude_self)})")
     if not callable(velocity):

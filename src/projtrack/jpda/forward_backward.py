@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from projtrack._validation import as_bool
+
 from . import _kernel
 from ._checks import _check_mvm, _fail_no_event, _normalize_columns
 
@@ -284,8 +286,7 @@ def beta_forward_backward(mvm: object, *, ops: OpCount | None = None,
         written in its docstring) instead of the blocked fast one; the two agree to
         rounding. For auditing and tests.
     """
-    if not isinstance(reference, (bool, np.bool_)):
-        raise TypeError(f"reference must be a bool, got {type(reference).__name__}")
+    as_bool(reference, "reference")
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1

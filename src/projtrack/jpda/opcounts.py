@@ -12,7 +12,7 @@ from math import comb, factorial
 
 import numpy as np
 
-from projtrack._validation import as_int
+from projtrack._validation import as_bool, as_int
 
 from .feasible import count_feasible_events
 from .paper import beta_paper
@@ -94,8 +94,7 @@ def fast_op_count(m: int, T: int, store_intermediates: bool = False) -> OpCount:
     """
     m = as_int(m, "m", minimum=0, maximum=22)  # beta_paper needs 2^m words
     T = as_int(T, "T", minimum=0)
-    if not isinstance(store_intermediates, (bool, np.bool_)):
-        raise TypeError(f"store_intermediates must be a bool, got {type(store_intermediates).__name__}")
+    as_bool(store_intermediates, "store_intermediates")
     ops = OpCount()
     mvm = np.vstack([np.full((1, T), 0.5), np.ones((m, T))])
     beta_paper(mvm, ops=ops, store_intermediates=store_intermediates)

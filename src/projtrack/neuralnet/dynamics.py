@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_int, as_real, as_rng
+from projtrack._validation import as_bool, as_int, as_real, as_rng
 
 from ._checks import _check_D, _check_states
 from .coefficients import PAPER_OFFSET, Coefficients, _as_coefficients
@@ -128,8 +128,8 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     max_iter = as_int(max_iter, "max_iter", 1)
     if mode not in ("serial", "parallel"):
         raise ValueError(f"mode must be 'serial' or 'parallel', got {mode!r}")
-    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
-        raise TypeError("self_coupling and exact_energy must be bools")
+    as_bool(self_coupling, "self_coupling")
+    as_bool(exact_energy, "exact_energy")
     Db = np.broadcast_to(D, (B,) + D.shape[-4:]) if D.ndim == 4 else D
     X = X.copy()
     col = X.sum(axis=1)          # (B, N_M, N_P)
@@ -231,8 +231,8 @@ def update_inputs(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Seq
     -------
     ndarray, same shape as X
     """
-    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
-        raise TypeError("self_coupling and exact_energy must be bools")
+    as_bool(self_coupling, "self_coupling")
+    as_bool(exact_energy, "exact_energy")
     c = _as_coefficients(coefficients)
     g = energy_gradient(X, D, c)
     X = np.asarray(X, dtype=float)

@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_int, as_real
+from projtrack._validation import as_bool, as_int, as_real
 
 from ._checks import _check_D, _check_square
 from .assignments import _permutation_triples, assignment_cost
@@ -67,8 +67,8 @@ def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None
     """
     c = _as_coefficients(coefficients)
     offset = as_real(offset, "offset")
-    if not isinstance(self_coupling, (bool, np.bool_)) or not isinstance(exact_energy, (bool, np.bool_)):
-        raise TypeError("self_coupling and exact_energy must be bools")
+    as_bool(self_coupling, "self_coupling")
+    as_bool(exact_energy, "exact_energy")
     shift = c.A3 if exact_energy else (0.0 if self_coupling else 2 * c.A3)
     inactive = 2 * c.A1 + 2 * c.A2 + (c.A3 if exact_energy else 0.0)
     if inactive < offset:

@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from projtrack._validation import as_int, as_real
+from projtrack._validation import as_bool, as_int, as_real
 from projtrack.jpda import count_feasible_events, vector_size
 
 from .optables import half_up
@@ -133,8 +133,8 @@ def ratio_fits(printed: Sequence[float], num: Sequence[int], den: Sequence[int])
 
 def supported_value(fits_ours: bool, fits_printed: bool) -> str:
     """Which value Table VI supports: ``"ours"``, ``"ours+paper"``, ``"paper"`` or ``""`` (neither)."""
-    if not isinstance(fits_ours, (bool, np.bool_)) or not isinstance(fits_printed, (bool, np.bool_)):
-        raise TypeError("fits_ours and fits_printed must be booleans")
+    as_bool(fits_ours, "fits_ours")
+    as_bool(fits_printed, "fits_printed")
     return {(True, False): "ours", (True, True): "ours+paper",
             (False, True): "paper", (False, False): ""}[bool(fits_ours), bool(fits_printed)]
 
