@@ -107,7 +107,7 @@ def test_batch_estimate_many_validates():
 def test_median_draw_and_settling_step():
     import numpy as np
     import pytest
-    from projtrack.scenes.ellipses import median_draw, settling_step
+    from projtrack.experiments.ellipsoids import median_draw, settling_step
     assert median_draw([3.0, 1.0, 2.0, 5.0]) == 0  # sorted 1, 2, 3, 5: position 2
     assert median_draw([3.0, 1.0, 2.0, 5.0], pool=[1, 3]) == 3
     assert median_draw([3.0, 1.0, 2.0, 5.0], pool=np.array([True, True, False, False])) == 0

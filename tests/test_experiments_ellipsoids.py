@@ -151,7 +151,7 @@ def test_fig12_noise_study_matches_the_one_draw_estimate(exp):
     Ys = [np.array([[v]]) for v in exp["ideal"] + st["W"][k]]
     one = E.batch_estimate(Ys, exp["Cs"], exp["As"], exp["Bs"])
     assert np.allclose(st["X"][k], one)
-    assert st["settle"][k] == S.settling_step(st["err"][k])
+    assert st["settle"][k] == XP.settling_step(st["err"][k])
     with pytest.raises(ValueError, match="n_draws"):
         XP.fig12_noise_study(exp, 0, np.random.default_rng(2))
 

@@ -15,6 +15,7 @@ from projtrack import ellipsoids as E
 from projtrack import montecarlo
 from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.scenes import ellipses as S
+from projtrack.experiments.ellipsoids.selection import median_draw, settling_step
 
 __all__ = ["relative_errors", "no_data_estimate", "fig12_noise_study", "settling_study", "model_trial",
            "imperfect_model_study", "kalman_vs_batch"]
@@ -52,7 +53,7 @@ def fig12_noise_study(exp: dict, n_draws: int, rng: np.random.Generator, varianc
     """Batch LS (eqs. 24-25) of the Sec. 7.2 experiment over ``n_draws`` noise draws, and the draw shown.
 
     The rule of the dynamic page: the draw with the (upper) median settling step (error below
-    10% from then on, :func:`projtrack.scenes.ellipses.settling_step`), ties broken by the mean
+    10% from then on, :func:`projtrack.experiments.ellipsoids.settling_step`), ties broken by the mean
     error. Draws run through :func:`projtrack.montecarlo.run`.
 
     Returns
@@ -68,8 +69,8 @@ def fig12_noise_study(exp: dict, n_draws: int, rng: np.random.Generator, varianc
     W = np.array(montecarlo.run(_noise, n_draws, rng, exp["ideal"], variance))
     X = E.batch_estimate_many(exp["ideal"] + W, exp["Cs"], exp["As"], exp["Bs"])
     err = relative_errors(X, exp["Xs"])
-    settle = S.settling_step(err)
-    pick = S.median_draw(settle, tiebreak=err.mean(axis=1))
+    settle = settling_step(err)
+    pick = median_draw(settle, tiebreak=err.mean(axis=1))
     return {"W": W, "X": X, "err": err, "settle": settle, "pick": pick}
 
 
@@ -116,9 +117,9 @@ def settling_study(drive_raw: object, target: float, n_draws: int, rng: np.rando
     Wd = np.array(montecarlo.run(_noise, n_draws, rng, ex["ideal"], 4.0))
     est = E.batch_estimate_many(Wd + ex["ideal"], ex["Cs"], A, drive)  # batch LS of eq. (24) for every draw
     err = np.linalg.norm(est - Xt[None], axis=(2, 3)) / size
-    st = S.settling_step(err)
+    st = settling_step(err)
     err0 = np.linalg.norm(E.simulate(np.zeros((2, 2)), A, drive, K - 1) - Xt, axis=(1, 2)) / size
-    nodata = S.settling_step(err0)
+    nodata = settling_step(err0)
     return {"scale": (target - a) / b, "median settling": np.median(st), "10%": np.percentile(st, 10),
             "90%": np.percentile(st, 90), "share in 3..11": np.mean((st >= 3) & (st <= 11)),
             "no-data settling": nodata, "share strictly earlier than no data": np.mean(st < nodata),

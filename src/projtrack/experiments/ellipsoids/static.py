@@ -20,6 +20,7 @@ from projtrack import ellipsoids as E
 from projtrack import montecarlo
 from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.scenes import ellipses as S
+from projtrack.experiments.ellipsoids.selection import median_draw
 
 __all__ = ["demo_interval", "ideal_supports", "ls_estimates", "shown_static_draw", "three_estimates",
            "describe_estimates", "non_psd_pool_study", "ls_psd_frequency", "noise_reading_study",
@@ -65,7 +66,7 @@ def shown_static_draw(variance: float, rng: np.random.Generator, *, non_psd_only
                       n_draws: int = 1000) -> dict:
     """Draw ``n_draws`` data sets of Sec. 7.1 and pick the one a figure shows.
 
-    The rule of the book: the draw with the (upper) median LS error (:func:`projtrack.scenes.ellipses.median_draw`), among all draws or, with ``non_psd_only``, among those whose LS
+    The rule of the book: the draw with the (upper) median LS error (:func:`projtrack.experiments.ellipsoids.median_draw`), among all draws or, with ``non_psd_only``, among those whose LS
     estimate is not PSD (Fig. 9). The draws run through :func:`projtrack.montecarlo.run`.
 
     Returns
@@ -86,7 +87,7 @@ def shown_static_draw(variance: float, rng: np.random.Generator, *, non_psd_only
     err = np.linalg.norm(X_ls - S.X26, axis=(1, 2))
     not_psd = np.linalg.eigvalsh(X_ls)[:, 0] < 0
     pool = np.nonzero(not_psd)[0] if non_psd_only else np.arange(n_draws)
-    pick = S.median_draw(err, pool=pool)
+    pick = median_draw(err, pool=pool)
     data = (ideal, W[pick], [np.array([[v]]) for v in ideal + W[pick]], Cs)
     return {"W": W, "X_ls": X_ls, "err": err, "not_psd": not_psd, "snr": S.realized_snr_static(ideal, W),
             "pool": pool, "pick": pick, "data": data}
