@@ -123,7 +123,7 @@ def ratio_fits(printed: Sequence[float], num: Sequence[int], den: Sequence[int])
     """Does a printed Table VI cell equal ``num / den`` rounded half-up, for both components?
 
     ``printed``, ``num`` and ``den`` are (additions, multiplications) pairs; the rounding
-    is :func:`~projtrack.experiments.jpda.optables.half_up`.
+    is :func:`~projtrack.experiments.jpda.half_up`.
     """
     pairs = [tuple(x) for x in (printed, num, den)]
     if any(len(x) != 2 for x in pairs):
@@ -163,7 +163,7 @@ def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
     """Three readings of "the vector length does not increase appreciably", with a baseline.
 
     1. absolute, along ``m = T``: the claim holds unless :func:`grows_geometrically` judges
-       ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.optables.vector_growth`
+       ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.vector_growth`
        table) geometric; the baseline ``n + 1`` passes.
     2. relative to eq. (1): the length over the event count falls along ``m = T`` in
        ``diag``; the baseline (eq. (1) over itself) fails.

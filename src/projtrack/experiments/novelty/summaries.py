@@ -1,8 +1,8 @@
 """Summary tables of the street-scene study: the synthetic draws and the real video side by side.
 
-The per-draw readings come from :func:`~projtrack.experiments.novelty.street.synthetic_draws`
+The per-draw readings come from :func:`~projtrack.experiments.novelty.synthetic_draws`
 (one row per draw); the real video's ghost areas from
-:func:`~projtrack.experiments.novelty.street.ghost_study`.  These functions turn them into
+:func:`~projtrack.experiments.novelty.ghost_study`.  These functions turn them into
 the tables and fractions the chapter prints and its scorecard reads, and state the rule by
 which a claim counts as seen: on the real video and in at least half of the draws.
 """
@@ -37,7 +37,7 @@ __all__ = [
 _FIG2_COLUMNS = ("n_2", "frame 2 novel", "n_4", "frame 4 novel", "F_4,1", "rank at 4",
                  "paper's order at 2-4", "updates, frames 2-7", "every frame >= 8 novel",
                  "entry marked", "n_8", "max eigenimages kept")
-#: The images whose ghost areas :func:`~projtrack.experiments.novelty.street.ghost_study` reports.
+#: The images whose ghost areas :func:`~projtrack.experiments.novelty.ghost_study` reports.
 _GHOST_IMAGES = ("first eigenimage, Fig. 3 settings", "first eigenimage, Fig. 2 settings",
                  "running temporal mean", "frame 1")
 
@@ -77,7 +77,7 @@ def fig2_fractions(seeds: pd.DataFrame) -> dict[str, float]:
     ----------
     seeds : DataFrame
         One row per draw, as returned by
-        :func:`~projtrack.experiments.novelty.street.synthetic_draws`.
+        :func:`~projtrack.experiments.novelty.synthetic_draws`.
 
     Returns
     -------
@@ -100,7 +100,7 @@ def fig2_seed_summary(seeds: pd.DataFrame) -> pd.DataFrame:
     Parameters
     ----------
     seeds : DataFrame
-        One row per draw (:func:`~projtrack.experiments.novelty.street.synthetic_draws`).
+        One row per draw (:func:`~projtrack.experiments.novelty.synthetic_draws`).
 
     Returns
     -------
@@ -139,7 +139,7 @@ def ghost_table(real_ghosts: Mapping[int, Mapping[str, float]], frames: Any, bac
     Parameters
     ----------
     real_ghosts : mapping
-        :func:`~projtrack.experiments.novelty.street.ghost_study` on the real video; must hold
+        :func:`~projtrack.experiments.novelty.ghost_study` on the real video; must hold
         every frame of ``real_at``.
     frames : array_like (I, H, W)
         The real video.
