@@ -66,7 +66,8 @@ def render() -> str:
                                            ".. automodule:: projtrack.inventory"])]
     md += ["## Shared utilities", "", *_block([".. automodule:: projtrack._validation", "",
                                                ".. automodule:: projtrack.montecarlo", "",
-                                               ".. automodule:: projtrack.stable"])]
+                                               ".. automodule:: projtrack.stable", "",
+                                               ".. automodule:: projtrack.tolerance"])]
     return "\n".join(md).rstrip() + "\n"
 
 
