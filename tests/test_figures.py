@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 
 from projtrack import figures
+from projtrack.tolerance import ROUNDING
 
 
 def _plot():
@@ -63,10 +64,10 @@ def test_style_uses_bundled_stix_fonts():
 def test_save_table_writes_csv(tmp_path, monkeypatch):
     monkeypatch.setenv("PROJTRACK_FIGURES_DIR", str(tmp_path))
     df = pd.DataFrame({"a": [1, 2], "b": [0.123456789, 2.0]})
-    path = figures.save_table(df, "part/tab", float_format="%.4g")
+    path = figures.save_table(df, "part/tab", float_format="%.4g", tolerance=ROUNDING).path
     assert path.read_text() == "a,b\n1,0.1235\n2,2\n"
     named = df.set_index(pd.Index([5, 6], name="k"))
-    assert figures.save_table(named, "part/tab2").read_text().splitlines()[0] == "k,a,b"
+    assert figures.save_table(named, "part/tab2", tolerance=ROUNDING).path.read_text().splitlines()[0] == "k,a,b"
 
 
 @pytest.mark.parametrize("bad", ["noslash", "/abs", "a/b.png", "a/../b", "a b/c", ""])
@@ -90,3 +91,30 @@ def test_default_root_is_repository_figures(monkeypatch):
     monkeypatch.delenv("PROJTRACK_FIGURES_DIR", raising=False)
     root = figures.output_path("part/x", ".png").parents[1]
     assert root.name == "figures" and (root.parent / "pyproject.toml").is_file()
+
+
+def test_legibility_check_refuses_small_text_and_crowded_rows(tmp_path, monkeypatch):
+    monkeypatch.setenv("PROJTRACK_FIGURES_DIR", str(tmp_path))
+    monkeypatch.delenv("PROJTRACK_LEGIBILITY", raising=False)
+    fig, ax = plt.subplots(figsize=(6.4, 3.0))
+    ax.plot([0, 1], [0, 1], label="line")
+    ax.legend(fontsize=6)                      # 6 pt at full size: 7.5 CSS pt on the page
+    with pytest.raises(ValueError, match="would show below 9 pt"):
+        figures.save(fig, "part/small")
+    assert not (tmp_path / "part" / "small.png").exists()
+    fig, axes = plt.subplots(1, 4, figsize=(6.4, 2.0))
+    for a in axes:
+        a.plot([0, 1])
+    assert any("4 panels side by side" in p for p in figures.legibility_problems(fig))
+    plt.close(fig)
+    # a wide figure is shrunk to the column: its 9-pt ticks become too small
+    fig, ax = plt.subplots(figsize=(12.0, 3.0))
+    ax.plot([0, 1])
+    assert any("shown at" in p for p in figures.legibility_problems(fig))
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(6.4, 3.0))
+    im = ax.imshow(np.eye(3))
+    fig.colorbar(im)                           # a colour bar is not a panel
+    ax.set_title("fine")
+    assert figures.legibility_problems(fig) == []
+    figures.save(fig, "part/fine")
