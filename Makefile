@@ -27,7 +27,7 @@ help:
 	@echo "make test     import layers, unit + property tests, nbval over every notebook (under two BLAS kernels),"
 	@echo "              figure regression, strict book build, the built book checked in headless Chromium"
 	@echo "make figures  execute every notebook in place (refreshes stored outputs and figures/)"
-	@echo "make crosscheck  nbval under every OpenBLAS kernel this CPU can run, each in its own process"
+	@echo "make crosscheck  nbval under every OpenBLAS kernel x numpy SIMD level this CPU can run, with a report"
 	@echo "make bench    run the benchmarks in benchmarks/"
 	@echo "make lock     regenerate environment.lock from pyproject.toml"
 	@echo "make kl-data  re-create the KL chapter's committed video excerpt from Debian's opencv-doc"
@@ -72,35 +72,23 @@ nbval: $(STAMP)
 	@echo "==> nbval over every notebook (OpenBLAS kernel: $$($(PY) tools/blas_kernels.py default)), then figure regression against figures/"
 	$(NBVAL)
 
-# The stored outputs must not depend on the last bits of one CPU's BLAS kernel: run nbval
-# once more under another OpenBLAS kernel this CPU supports (OPENBLAS_CORETYPE).
+# The stored outputs must not depend on the last bits of one CPU: run nbval once more under
+# another OpenBLAS kernel (OPENBLAS_CORETYPE) and numpy's next SIMD level down
+# (NPY_DISABLE_CPU_FEATURES), both chosen by tools/crosscheck.py among what this CPU can run.
 nbval-second-kernel: $(STAMP)
-	@kernel=$$($(PY) tools/blas_kernels.py second); \
-	if [ -z "$$kernel" ]; then \
-		echo "==> no second OpenBLAS kernel to check on this machine ($$(uname -m)): skipped"; \
-	else \
-		echo "==> nbval again under OPENBLAS_CORETYPE=$$kernel (a second BLAS kernel)"; \
-		OPENBLAS_CORETYPE=$$kernel $(NBVAL); \
-	fi
+	@second="$$($(PY) tools/crosscheck.py second)"; \
+	echo "==> nbval again under $$second (another BLAS kernel and SIMD level)"; \
+	eval "export $$second"; \
+	[ -n "$$OPENBLAS_CORETYPE" ] || unset OPENBLAS_CORETYPE; \
+	[ -n "$$NPY_DISABLE_CPU_FEATURES" ] || unset NPY_DISABLE_CPU_FEATURES; \
+	$(NBVAL)
 
-# nbval under every OpenBLAS kernel of tools/blas_kernels.py this CPU can run, each run in
-# its own process (two at a time, one per core); run it before submitting a change to
-# notebooks or numerics. Logs: .cache/crosscheck-<kernel>.log
+# nbval under every OpenBLAS kernel this CPU can run times numpy's SIMD levels, each in its
+# own process (two at a time), with a report of every compared number that moved and by
+# how much against its declared tolerance (.cache/crosscheck/report.md). Run it before
+# submitting a change to notebooks or numerics.
 crosscheck: $(STAMP)
-	@set -e; kernels="$$($(PY) tools/blas_kernels.py list)"; \
-	missing="$$($(PY) tools/blas_kernels.py missing)"; dups="$$($(PY) tools/blas_kernels.py duplicates)"; \
-	[ -z "$$missing" ] || echo "==> this CPU cannot run the OpenBLAS kernels: $$missing (not checked here)"; \
-	[ -z "$$dups" ] || echo "==> same kernel as one already checked, not run twice: $$dups"; \
-	[ -n "$$kernels" ] || { echo "==> no x86-64 kernel list here: nbval under the default kernel only"; $(NBVAL); exit 0; }; \
-	echo "==> nbval under each of: $$kernels"; \
-	$(MAKE) --no-print-directory -j2 --output-sync=target $$(for k in $$kernels; do printf 'crosscheck-kernel-%s ' "$$k"; done); \
-	echo "crosscheck passed under: $$kernels"
-
-crosscheck-kernel-%: $(STAMP)
-	@mkdir -p .cache
-	@OPENBLAS_CORETYPE=$* $(NBVAL) > .cache/crosscheck-$*.log 2>&1 \
-		&& echo "    $*: $$(tail -n 1 .cache/crosscheck-$*.log)" \
-		|| { tail -n 40 .cache/crosscheck-$*.log; echo "==> FAILED under $* (log: .cache/crosscheck-$*.log)"; exit 1; }
+	$(PY) tools/crosscheck.py run --jobs 2
 
 bookcheck: $(STAMP)
 	@echo "==> strict book build (warnings and broken references are errors)"
