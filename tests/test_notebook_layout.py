@@ -59,3 +59,84 @@ def test_book_pages_collapse_setup_cells(notebook):
     todo = tag_cells.to_collapse(notebook)
     assert not todo, (f"{len(todo)} cells should be collapsed (run `python tools/tag_cells.py`): "
                       + ", ".join(f"cell {i} ({reason})" for i, _, reason in todo))
+
+
+# -- how a page reads (CONTRIBUTING, "How a page reads") ---------------------------------------------
+
+import json  # noqa: E402
+
+#: Visible code cells hold at most this many non-blank lines; longer ones are collapsed or move
+#: to projtrack.experiments.
+MAX_VISIBLE_CODE_LINES = 8
+#: Printed lines wider than this run off the column.
+MAX_PRINTED_WIDTH = 90
+_MARKER = "# NBVAL_IGNORE_OUTPUT"
+
+
+def _cells(notebook):
+    return json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+
+
+def _hidden_input(cell) -> bool:
+    return any(t in cell.get("metadata", {}).get("tags", []) for t in tag_cells.HIDING)
+
+
+def _content_pages():
+    return [p for p in tag_cells.toc_notebooks() if p.name != "summary.ipynb"]
+
+
+_IDS = dict(ids=lambda p: p.relative_to(ROOT / "book").as_posix())
+
+
+@pytest.mark.parametrize("notebook", tag_cells.toc_notebooks(), **_IDS)
+def test_cells_left_out_of_nbval_say_why(notebook):
+    """A cell whose output nbval does not compare carries '# NBVAL_IGNORE_OUTPUT' and, on the
+    next line, a comment saying why (which file compares its numbers, or why they vary)."""
+    bad = []
+    for i, cell in enumerate(_cells(notebook)):
+        if cell["cell_type"] != "code":
+            continue
+        tags = cell.get("metadata", {}).get("tags", [])
+        if "nbval-ignore-output" in tags or "nbval-skip" in tags:
+            bad.append(f"cell {i}: use the '{_MARKER}' comment with a reason, not a tag")
+        lines = [ln.strip() for ln in "".join(cell["source"]).splitlines()]
+        if _MARKER in lines:
+            nxt = lines[lines.index(_MARKER) + 1] if lines.index(_MARKER) + 1 < len(lines) else ""
+            if not (nxt.startswith("#") and len(nxt.lstrip("# ").split()) >= 4):
+                bad.append(f"cell {i}: '{_MARKER}' without a reason comment on the next line")
+    assert not bad, "; ".join(bad)
+
+
+@pytest.mark.parametrize("notebook", _content_pages(), **_IDS)
+def test_visible_code_is_short_and_outputs_fit_the_column(notebook):
+    bad = []
+    for i, cell in enumerate(_cells(notebook)):
+        if cell["cell_type"] != "code":
+            continue
+        tags = cell.get("metadata", {}).get("tags", [])
+        n = sum(1 for ln in "".join(cell["source"]).splitlines() if ln.strip())
+        if not _hidden_input(cell) and n > MAX_VISIBLE_CODE_LINES:
+            bad.append(f"cell {i}: {n} visible code lines (at most {MAX_VISIBLE_CODE_LINES}: collapse it "
+                       "with hide-input or move the code to projtrack.experiments)")
+        if "hide-output" in tags or "remove-output" in tags:
+            continue
+        for o in cell.get("outputs", []):
+            if o.get("output_type") == "stream":
+                wide = [ln for ln in "".join(o.get("text", "")).splitlines() if len(ln) > MAX_PRINTED_WIDTH]
+                if wide:
+                    bad.append(f"cell {i}: {len(wide)} printed lines wider than {MAX_PRINTED_WIDTH} characters "
+                               f"(e.g. {wide[0][:60]!r}...): show a table or glue the numbers into the text")
+    assert not bad, "; ".join(bad)
+
+
+@pytest.mark.parametrize("notebook", _content_pages(), **_IDS)
+def test_page_opens_with_the_claim_and_the_result_at_a_glance(notebook):
+    """The first cell is the title and the paper's claim, and shows the page's result at a glance
+    (glued by Scorecard.publish); the last code cell publishes the scorecard."""
+    cells = _cells(notebook)
+    first = "".join(cells[0]["source"])
+    assert cells[0]["cell_type"] == "markdown" and first.lstrip().startswith("# "), "the first cell is the title"
+    assert "{glue:} glance" in first or "{glue} glance" in first, \
+        "the first cell shows the result at a glance ({glue:} glance, glued by card.publish())"
+    code = [c for c in cells if c["cell_type"] == "code"]
+    assert code and ".publish(" in "".join(code[-1]["source"]), "the last code cell calls card.publish(...)"
