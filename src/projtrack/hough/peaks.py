@@ -210,8 +210,8 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     return peaks
 
 
-def find_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0, bridge: float = 1.5,
-               min_votes: float = 3.0, size: int = 5) -> list[tuple[float, float]]:
+def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "ratio", ratio: float = 3.0,
+               bridge: float = 1.5, min_votes: float = 3.0, size: int = 5) -> list[tuple[float, float]]:
     """Lines of a Hough plane by the ratio rule of Sec. VII.
 
     A cell is a peak cell when the ratio of the exact HT to its ``5 x 5`` local average
@@ -234,6 +234,8 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.
         Non-negative Hough plane (e.g. from :func:`hough_transform`).
     rhos, thetas_deg : array_like
         Its axes, strictly increasing.
+    method : {"ratio"}, keyword-only
+        The peak rule: ``"ratio"``, the paper's rule described here.
     ratio, bridge : float, keyword-only
         The paper's thresholds, 3 and 1.5.
     min_votes : float, keyword-only, default 3
@@ -246,6 +248,8 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.
     list of (rho, theta_deg)
         One pair of floats per detected line, strongest first.
     """
+    if method != "ratio":
+        raise ValueError(f"method must be 'ratio', got {method!r}")
     return [(p.rho, p.theta_deg) for p in detect_peaks(H, rhos, thetas_deg, ratio=ratio, bridge=bridge,
                                                        min_votes=min_votes, size=size)]
 
