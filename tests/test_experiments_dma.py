@@ -189,3 +189,40 @@ def test_speed_sensitivity_faster_motion_gives_more_skips(curve_model):
         ex.speed_sensitivity(curve_model, inv[:-1], (0.1,))
     with pytest.raises(ValueError, match="mean_steps"):
         ex.speed_sensitivity(curve_model, inv, ())
+
+
+def test_tracking_error_table_declares_one_flip_tolerances(slotcar):
+    train, bg, model, sensor = slotcar
+    trials = ex.tracking_study(model, sensor, bg, 2, np.random.default_rng(8), n_frames=40)
+    table, tol = ex.tracking_error_table({"easy": trials}, {"easy": (model, sensor)})
+    assert list(table["frames"]) == ["all", "car visible", "car under the bridge"]
+    n = int(table["count"].min())
+    step = ex.path_step(model)
+    assert 0 < step < 64
+    assert tol["DMA Viterbi [px]"].kind == "statistical"
+    assert tol["DMA Viterbi [px]"].atol == pytest.approx(3 * round(step, 1) / n)
+    assert tol["per-frame detector [px]"].atol == pytest.approx(round(np.hypot(48, 64), 1) / n)
+    assert tol["nearest-centroid floor [px]"].kind == "numerical"
+    with pytest.raises(ValueError, match="no model for the conditions"):
+        ex.tracking_error_table({"easy": trials}, {})
+    with pytest.raises(ValueError, match="non-empty dict"):
+        ex.tracking_error_table({}, {})
+
+
+def test_training_summary_and_fig9(slotcar):
+    import matplotlib.pyplot as plt
+
+    train, bg, model, sensor = slotcar
+    table, tol = ex.training_summary({"easy": (model, sensor)}, {"easy": train}, {"easy": bg})
+    row = table.iloc[0]
+    assert row["regions"] == 4 and row["c of eq. (15)"] == pytest.approx(sensor.c)
+    assert set(tol) == {"c of eq. (15)", "log c"}
+    video = make_slotcar_video(60, np.random.default_rng(9))
+    est = model.predict(ex.active_pixels(video.frames, 0.15, bg), sensor)
+    fig = ex.plot_fig9(video, model, est, train, 10)
+    assert len(fig.axes) == 6
+    plt.close(fig)
+    with pytest.raises(ValueError, match="t_occ must leave"):
+        ex.plot_fig9(video, model, est, train, 1)
+    with pytest.raises(ValueError, match="times must name two frames"):
+        ex.plot_harder(video, ex.active_pixels(video.frames, 0.15, bg), est, (1, 2, 3))

@@ -5,6 +5,7 @@
 * :mod:`~projtrack.experiments.dma.sphere`: Example 1, the sphere chain, its Monte Carlo and readings, the Kalman baseline.
 * :mod:`~projtrack.experiments.dma.roads`: Example 2, roads and a range radar, its Monte Carlo and readings, the EKF baseline.
 * :mod:`~projtrack.experiments.dma.slotcar`: Example 3, background subtraction, training, the tracking and sensitivity studies.
+* :mod:`~projtrack.experiments.dma.plots`: the Example 3 figures (Fig. 9 and the harder condition).
 
 Every Monte Carlo study (:func:`sphere_trials`, :func:`road_trials`, :func:`no_data_errors`,
 :func:`tracking_study`) runs through
@@ -23,14 +24,18 @@ from projtrack.experiments.dma.roads import (
     no_data_errors,
     road_trials,
 )
+from projtrack.experiments.dma.plots import plot_fig9, plot_harder
 from projtrack.experiments.dma.slotcar import (
     active_pixels,
     fit_slotcar,
+    path_step,
     sensitivity_study,
     track_video,
     tracking_error_rows,
+    tracking_error_table,
     tracking_study,
     training_background,
+    training_summary,
 )
 from projtrack.experiments.dma.sphere import (
     H_SPHERE,
@@ -59,6 +64,11 @@ __all__ = [
     "ekf_range",
     "active_pixels",
     "fit_slotcar",
+    "plot_fig9",
+    "plot_harder",
+    "path_step",
+    "tracking_error_table",
+    "training_summary",
     "training_background",
     "with_centroids",
     "accuracy_summary",

@@ -13,6 +13,7 @@ from projtrack._validation import as_array, as_count, as_int, as_real
 from projtrack.dma import DMA, ActivePixelSensor
 from projtrack.montecarlo import run
 from projtrack.scenes.slotcar import make_slotcar_video
+from projtrack.tolerance import Tolerance, mean_over, numerical, statistical
 
 __all__ = [
     "active_pixels",
@@ -21,6 +22,9 @@ __all__ = [
     "track_video",
     "tracking_study",
     "tracking_error_rows",
+    "tracking_error_table",
+    "training_summary",
+    "path_step",
     "sensitivity_study",
 ]
 
@@ -147,6 +151,97 @@ def tracking_error_rows(condition: str, trials: list[dict[str, np.ndarray]]) -> 
                      "per-frame detector error [px]": float(e["per-frame"].mean()),
                      "nearest-centroid floor [px]": float(e["floor"].mean())})
     return rows
+
+
+def path_step(model: DMA) -> float:
+    """The longest step of the learned motion model in pixels: the largest distance between two
+    centroids joined by a non-zero transition. One flipped Viterbi decision moves the decoded
+    position of a frame by at most about this much (the path then runs through a neighbour)."""
+    A = model.transitions_.tocoo() if hasattr(model.transitions_, "tocoo") else None
+    P = np.asarray(model.prototypes_, dtype=float)
+    if A is None:
+        i, j = np.nonzero(np.asarray(model.transitions_))
+    else:
+        i, j = A.row, A.col
+    if len(i) == 0:
+        raise ValueError("the model has no transition")
+    return float(np.max(np.linalg.norm(P[i] - P[j], axis=1)))
+
+
+def tracking_error_table(runs: dict[str, list[dict[str, np.ndarray]]], models: dict[str, tuple],
+                         frame_shape: tuple[int, int] = (48, 64)):
+    """The Fig. 9 error table (mean error in px per condition and frame set) and its tolerances.
+
+    Parameters
+    ----------
+    runs : dict
+        Condition -> the :func:`tracking_study` trials.
+    models : dict
+        Condition -> ``(model, sensor)`` of :func:`fit_slotcar` (for :func:`path_step`).
+    frame_shape : (int, int)
+        Video frame size, whose diagonal bounds one per-frame detection's error.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Columns ``condition``, ``frames``, ``count``, ``DMA Viterbi [px]``,
+        ``per-frame detector [px]``, ``nearest-centroid floor [px]``.
+    tolerance : dict of str to Tolerance
+        Each error column is a mean over at least ``min(count)`` frames. One flipped Viterbi
+        decision re-routes a short stretch of the path through neighbouring centroids: three
+        frames, each off by up to :func:`path_step`. One flipped per-frame detection (a tie
+        between two boxes' active-pixel counts broken by one pixel at the threshold) can land
+        anywhere in the frame: one frame off by up to the frame diagonal. The floor depends
+        only on the k-means centroids, which converge far from ties: numerical.
+    """
+    import pandas as pd
+
+    if not isinstance(runs, dict) or not runs:
+        raise ValueError("runs must be a non-empty dict of condition -> trials")
+    missing = sorted(set(runs) - set(models))
+    if missing:
+        raise ValueError(f"models has no model for the conditions {missing}")
+    rows = [row for k, trials in runs.items() for row in tracking_error_rows(k, trials)]
+    table = pd.DataFrame(rows).rename(columns={"DMA Viterbi error [px]": "DMA Viterbi [px]",
+                                               "per-frame detector error [px]": "per-frame detector [px]",
+                                               "nearest-centroid floor [px]": "nearest-centroid floor [px]"})
+    n = int(table["count"].min())
+    step = max(path_step(m) for m, _ in models.values())
+    diag = float(np.hypot(*frame_shape))
+    tolerance: dict[str, Tolerance] = {
+        "DMA Viterbi [px]": mean_over(n, round(step, 1), flips=3, what="frame"),
+        "per-frame detector [px]": mean_over(n, round(diag, 1), flips=1, what="frame"),
+        "nearest-centroid floor [px]": numerical(rtol=1e-6, why="distances to k-means centroids, which "
+                                                 "converge to 1e-8 far from ties"),
+    }
+    return table, tolerance
+
+
+def training_summary(models: dict[str, tuple], train: dict[str, list], background: dict[str, np.ndarray],
+                     threshold: float = 0.15):
+    """What Example 3 learned in each condition, and its tolerances.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Per condition: regions, centroids, non-zero transitions, ``c`` of eq. (15), ``log c``
+        and the median number of active pixels per training frame.
+    tolerance : dict of str to Tolerance
+        ``c`` is a ratio of active-pixel counts over every training frame: a pixel flipping
+        across the threshold moves it by far less than 1%.
+    """
+    import pandas as pd
+
+    rows = []
+    for k, (model, sensor) in models.items():
+        act = active_pixels(np.concatenate([v.frames for v in train[k]]), threshold, background[k])
+        rows.append({"condition": k, "regions": model.manifold_.n_regions, "centroids": model.manifold_.n_prototypes,
+                     "non-zero transitions": int(model.transitions_.nnz), "c of eq. (15)": float(sensor.c),
+                     "log c": float(np.log(sensor.c)),
+                     "median active pixels": int(np.median(act.sum(axis=(1, 2))))})
+    tol = statistical(rtol=0.005, why="a ratio of active-pixel counts over every training frame: a few pixels "
+                                      "crossing the threshold move it by far less than 0.5%")
+    return pd.DataFrame(rows), {"c of eq. (15)": tol, "log c": statistical(atol=0.005, why="log of c (see c)")}
 
 
 def sensitivity_study(
