@@ -143,10 +143,13 @@ class Tolerance:
         return abs(a - e) <= self.atol + self.rtol * abs(e) + unit * (1 + 1e-9)
 
     def as_dict(self) -> dict[str, Any]:
-        """The tolerance as a JSON-ready dict (``kind`` only for ``exact``)."""
+        """The tolerance as a JSON-ready dict (``kind`` only for ``exact``; ``atol`` and ``rtol``
+        to three significant digits, so the manifest does not depend on the last bits of a
+        tolerance computed from data)."""
         if self.is_exact:
             return {"kind": "exact"}
-        return {"kind": self.kind, "atol": self.atol, "rtol": self.rtol, "why": self.why}
+        return {"kind": self.kind, "atol": float(f"{self.atol:.3g}"), "rtol": float(f"{self.rtol:.3g}"),
+                "why": self.why}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "Tolerance":
