@@ -116,7 +116,9 @@ browsercheck: $(STAMP) browser-deps
 		echo "!! Install Debian's chromium and chromium-driver: apt-get install chromium chromium-driver"; \
 		echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
 	fi
-	$(PY) -m pytest -p no:cacheprovider -q -rs tests/browser
+	@rm -f .cache/reading.txt; status=0; $(PY) -m pytest -p no:cacheprovider -q -rs tests/browser || status=$$?; \
+	if [ -f .cache/reading.txt ]; then echo "==> how the book reads (visible words, code lines, first figure):"; \
+	cat .cache/reading.txt; fi; exit $$status
 
 # The two nbval runs are independent (each kernel uses one BLAS thread, each run writes
 # its figures to its own temporary folder), so they run side by side on two cores; their
