@@ -530,10 +530,6 @@ def _headline(fig: object) -> _Headline:
 
 # -- the book's summary ----------------------------------------------------------------------------
 
-#: Verdicts that count as "reproduces" in the book's one-line answers.
-_REPRODUCES = ("reproduced", "within-tolerance")
-
-
 def what_reproduces(items) -> dict[str, dict[str, int]]:
     """Counts of inventory ids per verdict, for each book part and for the whole book.
 
