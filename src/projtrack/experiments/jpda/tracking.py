@@ -60,8 +60,8 @@ def run_trackers(scene: CrossingScene, p_detect: float = 0.9) -> tuple[np.ndarra
     if not isinstance(scene, CrossingScene):
         raise TypeError(f"scene must be a CrossingScene, got {type(scene).__name__}")
     args = (scene.truth[0], 0.5 * np.eye(4), scene.F, scene.Q, scene.H, scene.R)
-    jp = JPDATracker(*args, p_detect=p_detect, clutter_density=scene.clutter_density)
-    gn = GNNTracker(*args)
+    jp = JPDATracker(*args, p_detect=p_detect, clutter_density=scene.clutter_density, gate_prob=0.99)
+    gn = GNNTracker(*args, gate_prob=0.99)
     est_j = np.array([jp.step(z) for z in scene.scans])
     est_g = np.array([gn.step(z) for z in scene.scans])
     return est_j, est_g
