@@ -1,6 +1,7 @@
 """Experiments of the JPDA chapter (Fisher & Casasent 1989).
 
-* :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data.
+* :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data; the
+  fast algorithm with one in-situ working vector; the savings factor past Table VI.
 * :mod:`~projtrack.experiments.jpda.misprints`: evidence for Tables IV-VI's misprints; vector-growth readings.
 * :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
 * :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
@@ -11,19 +12,22 @@
 
 from __future__ import annotations
 
-from .analog import analog_accuracy, analog_trial
+from .analog import ANALOG_TOLERANCE, analog_accuracy, analog_trial
 from .crosschecks import (
     beta_by_permanents,
     beta_literature_rule,
     clutter_sensitivity,
     permanent_rect,
 )
-from .equivalence import equivalence_study, equivalence_trial
+from .equivalence import equivalence_study, equivalence_summary, equivalence_trial
 from .misprints import (
+    count_table_verdict,
+    fast_count_readings,
     grows_geometrically,
     growth_readings,
     multiplication_rule_table,
     multiplication_rules,
+    misprint_evidence,
     ratio_fits,
     rule_fits,
     supported_value,
@@ -31,12 +35,18 @@ from .misprints import (
     table5_additions_rule,
 )
 from .optables import (
+    InSituRun,
     all_ones_mvm,
+    beta_in_situ,
     count_grid,
     half_up,
+    in_situ_study,
+    in_situ_summary,
     instrumented_counts,
     parse_count_table,
     parse_ratio_table,
+    savings,
+    savings_paths,
     vector_growth,
 )
 from .timing import best_of, scaling_timings
@@ -50,6 +60,15 @@ __all__ = [
     "parse_ratio_table",
     "half_up",
     "vector_growth",
+    "InSituRun",
+    "beta_in_situ",
+    "in_situ_study",
+    "in_situ_summary",
+    "savings",
+    "savings_paths",
+    "fast_count_readings",
+    "misprint_evidence",
+    "count_table_verdict",
     "multiplication_rules",
     "rule_fits",
     "multiplication_rule_table",
@@ -65,8 +84,10 @@ __all__ = [
     "clutter_sensitivity",
     "equivalence_trial",
     "equivalence_study",
+    "equivalence_summary",
     "analog_trial",
     "analog_accuracy",
+    "ANALOG_TOLERANCE",
     "best_of",
     "scaling_timings",
     "score_tracks",

@@ -12,10 +12,10 @@ import numpy as np
 import pandas as pd
 
 from projtrack import montecarlo
-from projtrack._validation import as_int, as_rng
+from projtrack._validation import as_int, as_real, as_rng
 from projtrack.jpda import beta, beta_enumerated, beta_paper
 
-__all__ = ["equivalence_trial", "equivalence_study"]
+__all__ = ["equivalence_trial", "equivalence_study", "equivalence_summary"]
 
 
 def equivalence_trial(rng: np.random.Generator) -> dict:
@@ -42,3 +42,19 @@ def equivalence_study(n_trials: int, seed: int) -> pd.DataFrame:
     n_trials = as_int(n_trials, "n_trials", minimum=1)
     seed = as_int(seed, "seed", minimum=0)
     return pd.DataFrame(montecarlo.run(equivalence_trial, n_trials, np.random.default_rng(seed)))
+
+
+def equivalence_summary(study: pd.DataFrame, bound: float = 1e-12) -> pd.DataFrame:
+    """The largest difference from the enumeration of each method in an :func:`equivalence_study`.
+
+    Rows: the paper's algorithm, the package default and the per-target PDA baseline;
+    columns ``method``, ``largest |beta - enumeration|`` and ``below <bound>``.
+    """
+    if not isinstance(study, pd.DataFrame) or not {"paper", "fast", "pda"} <= set(study.columns) or study.empty:
+        raise ValueError("study must be a non-empty equivalence_study table")
+    bound = as_real(bound, "bound", 0.0, low_open=True)
+    worst = [float(study[k].max()) for k in ("paper", "fast", "pda")]
+    return pd.DataFrame({"method": ["paper's algorithm (beta_paper)", "package default (beta)",
+                                    "per-target PDA (baseline)"],
+                         "largest |beta - enumeration|": worst,
+                         f"below {bound:g}": [w < bound for w in worst]})

@@ -6,8 +6,12 @@ cells; these functions decide which value the paper's other tables support.
 against Table IV; :func:`table5_additions_rule` and :func:`table5_additions_proof` test
 Table V's additions against Table III's vector sizes; :func:`ratio_fits` and
 :func:`supported_value` read Table VI's printed savings ratios as evidence.
-:func:`grows_geometrically` and :func:`growth_readings` tabulate three readings of the
+:func:`grows_geometrically` and :func:`growth_readings` tabulate two readings of the
 claim that the vector length "does not increase appreciably" (Sec. III.B).
+:func:`misprint_evidence` gathers, for every cell where Tables IV or V differ from the
+instrumented counts, the arithmetic that proves it misprinted, and
+:func:`count_table_verdict` turns it into a table's verdict. :func:`fast_count_readings` pins which words a stage of the fast algorithm computes on one
+printed Table V cell and judges the reading on the others.
 """
 
 from __future__ import annotations
@@ -20,11 +24,12 @@ import pandas as pd
 from projtrack._validation import as_bool, as_int, as_real
 from projtrack.jpda import count_feasible_events, vector_size
 
-from .optables import half_up
+from .optables import all_ones_mvm, beta_in_situ, half_up
 
 __all__ = ["multiplication_rules", "rule_fits", "multiplication_rule_table",
            "table5_additions_rule", "table5_additions_proof", "ratio_fits", "supported_value",
-           "grows_geometrically", "growth_readings"]
+           "grows_geometrically", "growth_readings", "fast_count_readings", "misprint_evidence",
+           "count_table_verdict"]
 
 Cell = tuple[int, int]
 Counts = Mapping[Cell, tuple[int, int]]
@@ -157,29 +162,27 @@ def _span(r: Sequence[int]) -> str:
     return f"{r[0]}..{r[-1]}"
 
 
-def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
-                    sizes: Sequence[int] = range(3, 8), t_range: Sequence[int] = range(3, 13),
-                    fixed_m: Sequence[int] = (3, 4)) -> pd.DataFrame:
-    """Three readings of "the vector length does not increase appreciably", with a baseline.
+def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8)) -> pd.DataFrame:
+    """Two readings of "the vector length does not increase appreciably", each with a baseline.
 
     1. absolute, along ``m = T``: the claim holds unless :func:`grows_geometrically` judges
        ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.vector_growth`
-       table) geometric; the baseline ``n + 1`` passes.
-    2. relative to eq. (1): the length over the event count falls along ``m = T`` in
-       ``diag``; the baseline (eq. (1) over itself) fails.
-    3. in ``T`` at fixed ``m``: the length stays ``<= 2^m`` for ``m`` in ``sizes`` and
-       ``T`` in ``t_range``; the baseline (eq. (1) itself) fails.
+       table) geometric; the baseline ``n + 1`` (the length of a column of beta) passes.
+    2. relative to eq. (1), the comparison the text itself makes: the length over the event
+       count falls at every step along ``m = T`` in ``diag``; the baseline (eq. (1) over
+       itself) fails.
 
-    One row per reading, with the values shown (``fixed_m`` are the rows printed for
-    reading 3), ``claim holds`` and ``baseline passes``.
+    A third reading, "in ``T`` at fixed ``m``", is not a test: a vector indexed by subsets of
+    the ``m`` measurements has at most ``2^m`` elements whatever ``T``, so no criterion of
+    the form "stays bounded in ``T``" can fail for it.
+
+    One row per reading with the values it judges, ``claim holds`` and ``baseline passes``.
     """
     if not isinstance(growth, pd.DataFrame) or "vector length" not in growth:
         raise TypeError("growth must be a vector_growth table (a DataFrame with 'vector length')")
-    diag, sizes, t_range, fixed_m = ([as_int(x, f"{nm}[]", minimum=1) for x in r] for nm, r in
-                                     (("diag", diag), ("sizes", sizes), ("t_range", t_range),
-                                      ("fixed_m", fixed_m)))
-    if len(diag) < 2 or not sizes or not t_range or not fixed_m:
-        raise ValueError("diag needs two sizes; sizes, t_range and fixed_m must not be empty")
+    diag = [as_int(x, "diag[]", minimum=1) for x in diag]
+    if len(diag) < 2:
+        raise ValueError("diag needs at least two sizes")
     lengths = growth["vector length"]
     n = lengths.index
     vec_geometric = grows_geometrically(lengths)
@@ -188,20 +191,121 @@ def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
     rel = [vector_size(i, i) / count_feasible_events(i, i) for i in diag]
     rel_falls = bool(np.all(np.diff(rel) < 0))
     rel_baseline_falls = bool(np.all(np.diff(np.ones(len(diag))) < 0))  # eq. (1) / eq. (1)
-    in_T_bounded = all(vector_size(m, T) <= 2**m for m in sizes for T in t_range)
-    in_T_baseline_bounded = all(count_feasible_events(m, T) <= 2**m for m in sizes for T in t_range)
     return pd.DataFrame([
         {"reading": "1. absolute, along m = T",
          "values": ", ".join(str(vector_size(i, i)) for i in diag)
-         + f" (m = T = {_span(diag)}; x{step:.2f} from {n[-2]} to {n[-1]})",
+         + f" (m = T = {_span(diag)}); x{step:.2f} from {n[-2]} to {n[-1]}",
          "claim holds": not vec_geometric, "baseline passes": not baseline_geometric},
         {"reading": "2. relative to eq. (1)",
          "values": ", ".join(f"{r:.2g}" for r in rel) + f" (m = T = {_span(diag)})",
          "claim holds": rel_falls, "baseline passes": rel_baseline_falls},
-        {"reading": "3. in T at fixed m",
-         "values": "; ".join(f"m = {m}: " + ", ".join(str(vector_size(m, T)) for T in sizes)
-                             for m in fixed_m)
-         + f" (T = {_span(sizes)}); <= 2^m up to T = {t_range[-1]} for m = {_span(sizes)}: "
-         + str(in_T_bounded),
-         "claim holds": in_T_bounded, "baseline passes": in_T_baseline_bounded},
-    ]).set_index("reading")
+    ])
+
+
+def fast_count_readings(printed: Counts, calibrate: Cell = (7, 7)) -> pd.DataFrame:
+    """Which words each stage computes, pinned by one printed Table V cell and judged on the rest.
+
+    Two readings of the fast algorithm's count (:func:`~projtrack.experiments.jpda.beta_in_situ`
+    on all-ones MVMs): ``needed`` (each stage computes only the MU words the later stages
+    read, as :func:`projtrack.jpda.beta_paper`) and ``all`` (each stage recomputes the
+    whole Table III vector). One row per reading: its count at the cell ``calibrate``
+    (the text's ``m = T = 7``), whether that equals the printed cell, and how many of the
+    other printed cells of ``printed`` (additions and multiplications both) it gives.
+    """
+    calibrate = _cell(calibrate, "calibrate")
+    if calibrate not in printed:
+        raise ValueError(f"calibrate = {calibrate} must be a cell of printed")
+    rows = []
+    for reading in ("needed", "all"):
+        counts = {}
+        for k in printed:
+            ops = beta_in_situ(all_ones_mvm(*_cell(k, "printed key")), words=reading).ops
+            counts[k] = (ops.additions, ops.multiplications)
+        others = [k for k in printed if k != calibrate]
+        m, T = calibrate
+        rows.append({"words computed per stage": reading,
+                     (f"m = T = {m}" if m == T else f"m = {m}, T = {T}"): "{}/{}".format(*counts[calibrate]),
+                     "equals the printed cell": counts[calibrate] == tuple(printed[calibrate]),
+                     "other cells equal": sum(counts[k] == tuple(printed[k]) for k in others)})
+    return pd.DataFrame(rows)
+
+
+def misprint_evidence(conv: Counts, fast: Counts, printed4: Counts, printed5: Counts,
+                      printed6: Mapping[Cell, Sequence[float]]) -> pd.DataFrame:
+    """Every cell where Table IV or V differs from the instrumented count, and what proves it.
+
+    A differing cell is a proven misprint when (a) the savings ratio of Table VI (printed
+    independently, to one decimal) equals the ratio computed with our count, rounded
+    half-up, and not the ratio with the printed count (:func:`ratio_fits`); or, for the
+    additions of Table V, (b) Table III's rule proves it (:func:`table5_additions_proof`)
+    while the cell's multiplications agree with ours.
+
+    Parameters
+    ----------
+    conv, fast : dict
+        Our counts (:func:`~projtrack.experiments.jpda.instrumented_counts`), keyed ``(m, T)``.
+    printed4, printed5 : dict
+        Tables IV and V as printed (:func:`~projtrack.experiments.jpda.parse_count_table`).
+    printed6 : dict
+        Table VI as printed (:func:`~projtrack.experiments.jpda.parse_ratio_table`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per differing cell: ``table`` ("IV" or "V"), ``m``, ``T``, ``printed`` and
+        ``ours`` (``"additions/multiplications"``), ``decided by`` ("Table VI", "Table III",
+        or "" when nothing decides), ``proven`` and ``proof`` (the arithmetic, one line).
+    """
+    for name, d in (("conv", conv), ("fast", fast), ("printed4", printed4), ("printed5", printed5),
+                    ("printed6", printed6)):
+        if not isinstance(d, Mapping) or not d:
+            raise ValueError(f"{name} must be a non-empty dict keyed by (m, T)")
+    cells = list(printed4)
+    if any(k not in d for k in cells for d in (conv, fast, printed5, printed6)):
+        raise ValueError("conv, fast, printed5 and printed6 must hold every cell of printed4")
+    what = ("additions", "multiplications")
+    rows = []
+    for table, ours_d, printed_d in (("IV", conv, printed4), ("V", fast, printed5)):
+        for k in cells:
+            ours, printed = tuple(ours_d[k]), tuple(printed_d[k])
+            if ours == printed:
+                continue
+            num_o, den_o = conv[k], fast[k]
+            num_p, den_p = (printed, fast[k]) if table == "IV" else (conv[k], printed)
+            evid = supported_value(ratio_fits(printed6[k], num_o, den_o), ratio_fits(printed6[k], num_p, den_p))
+            parts = [f"Table VI prints {printed6[k][i]:.1f} for {what[i]}: {num_o[i]}/{den_o[i]} = "
+                     f"{num_o[i] / den_o[i]:.2f} with our count, {num_p[i]}/{den_p[i]} = "
+                     f"{num_p[i] / den_p[i]:.2f} with the printed one"
+                     for i in (0, 1) if ours[i] != printed[i]]
+            decided, proven = ("Table VI", True) if evid == "ours" else ("", False)
+            if evid == "ours+paper":
+                parts.append("both round to the printed ratio: Table VI does not decide")
+            elif evid != "ours":
+                parts.append("Table VI does not support our count")
+            if not proven and table == "V" and ours[0] != printed[0] and ours[1] == printed[1]:
+                ok, text = table5_additions_proof(k, fast, printed5)
+                parts.append(f"Table III: {text}")
+                decided, proven = ("Table III", True) if ok else ("", False)
+            if table == "IV" and ours[1] != printed[1]:
+                parts.append(f"our count is (T - 1) x Table I = {k[1] - 1} x "
+                             f"{count_feasible_events(*k)} = {(k[1] - 1) * count_feasible_events(*k)}")
+            rows.append({"table": table, "m": k[0], "T": k[1], "printed": "{}/{}".format(*printed),
+                         "ours": "{}/{}".format(*ours), "decided by": decided, "proven": proven,
+                         "proof": "; ".join(parts)})
+    return pd.DataFrame(rows, columns=["table", "m", "T", "printed", "ours", "decided by", "proven", "proof"])
+
+
+def count_table_verdict(n_cells: int, evidence: pd.DataFrame, table: str) -> tuple[str, int, int]:
+    """The verdict of Table IV or V under the book's rule, from :func:`misprint_evidence`.
+
+    ``reproduced`` when no cell differs, ``misprint`` when every differing cell is a proven
+    misprint (the table as printed contains an error its own paper disproves), ``differs``
+    otherwise. Returns ``(verdict, cells equal, proven misprints)``.
+    """
+    n_cells = as_int(n_cells, "n_cells", minimum=1)
+    if not isinstance(evidence, pd.DataFrame) or "table" not in evidence:
+        raise TypeError("evidence must be a misprint_evidence table")
+    rows = evidence[evidence["table"] == table]
+    proven = int(rows["proven"].sum())
+    verdict = "reproduced" if rows.empty else "misprint" if proven == len(rows) else "differs"
+    return verdict, n_cells - len(rows), proven

@@ -5,24 +5,30 @@ algorithm (with and without stored intermediate vectors) on all-ones MVMs;
 :func:`count_grid` lays a count dictionary out as a table; :func:`parse_count_table`
 and :func:`parse_ratio_table` read the paper's printed tables (transcribed as text),
 :func:`half_up` rounds a ratio as the paper does, and :func:`vector_growth` tabulates
-the vector length and the fast algorithm's cost along ``m = T``.
+the vector length and the fast algorithm's cost along ``m = T``. :func:`beta_in_situ`
+runs the fast algorithm with one working vector, counting the vectors it forms (Sec. III:
+"only T^2 vectors ... stored in situ"), and :func:`in_situ_study` runs it on random MVMs (:func:`in_situ_summary` per ``T``);
+:func:`savings` and :func:`savings_paths` give the savings factor past Table VI.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from fractions import Fraction
 from math import floor
 
 import numpy as np
 import pandas as pd
 
-from projtrack._validation import as_int
-from projtrack.jpda import (OpCount, beta_enumerated, beta_paper, count_feasible_events,
-                            fast_op_count, vector_size)
+from projtrack._validation import as_array, as_choice, as_int
+from projtrack.jpda import (OpCount, beta_enumerated, beta_paper, conventional_op_count,
+                            count_feasible_events, fast_op_count, mu_words, vector_size)
+from projtrack.scenes.jpda import random_mvm
 
 __all__ = ["all_ones_mvm", "instrumented_counts", "count_grid", "parse_count_table",
-           "parse_ratio_table", "half_up", "vector_growth"]
+           "parse_ratio_table", "half_up", "vector_growth", "InSituRun", "beta_in_situ",
+           "in_situ_study", "in_situ_summary", "savings", "savings_paths"]
 
 Counts = dict[tuple[int, int], tuple[int, int]]
 
@@ -133,3 +139,227 @@ def vector_growth(sizes: Sequence[int]) -> pd.DataFrame:
                        "ops / (T^2 m 2^m)": round(ops_n / (n * n * n * 2**n), 3),
                        "length / eq. (1)": vector_size(n, n) / count_feasible_events(n, n)})
     return pd.DataFrame(growth).set_index("m = T")
+
+
+# -- Sec. III: T^2 vectors, stored in situ (JPDA-S3) ------------------------------------------
+
+@dataclass(frozen=True)
+class InSituRun:
+    """What :func:`beta_in_situ` computed and how.
+
+    Attributes
+    ----------
+    beta : ndarray, shape (m + 1, T)
+        The association probabilities (columns sum to 1).
+    vectors : int
+        Probability vectors formed in all: per target, the vector of the last target, one
+        vector per vector-inner-product stage and the vector ``A b'`` of eq. (6).
+    vectors_per_target : tuple of int
+        The same count for each target column.
+    buffer_length : int
+        Elements of the one working vector every target vector is written into.
+    ops : OpCount
+        Additions and multiplications executed (the convention of
+        :class:`projtrack.jpda.OpCount`).
+    """
+
+    beta: np.ndarray
+    vectors: int
+    vectors_per_target: tuple[int, ...]
+    buffer_length: int
+    ops: OpCount
+
+
+def _as_mvm(mvm: object) -> np.ndarray:
+    w = as_array(mvm, "mvm", ndim=2)
+    if w.shape[0] < 1 or w.shape[1] < 1:
+        raise ValueError(f"mvm must have a row 0 and at least one target column, got shape {w.shape}")
+    if np.any(w < 0):
+        raise ValueError("mvm entries must be >= 0 (probabilities and densities)")
+    if w.shape[0] - 1 > 16:
+        raise ValueError(f"mvm has m = {w.shape[0] - 1} measurements; beta_in_situ runs element "
+                         "by element and takes at most 16")
+    return w
+
+
+def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed") -> InSituRun:
+    """The paper's fast algorithm (Secs. III.B-D) with a single working vector, instrumented.
+
+    Every target vector (``T``, ``T - 1``, ..., ``2``) is written over the previous one in
+    one buffer of the Table III length (:func:`projtrack.jpda.vector_size`), element by
+    element, as the text says ("we need to retain only the latest vector"). An element of
+    the new vector reads the old element of its own MU word and of the words with one bit
+    fewer (the XOR rule of Sec. III.C), so overwriting is safe when the words are visited by
+    decreasing bit count, the order of Table II (``order="paper"``); ``order="reversed"``
+    (increasing bit count) overwrites elements that are still to be read, and gives wrong
+    beta: the check that in-situ storage is a real constraint.
+
+    ``words="needed"`` computes at each stage only the MU words the later stages still read
+    (as :func:`projtrack.jpda.beta_paper` does); ``words="all"`` recomputes the whole
+    Table III vector at every stage (terms whose word lies outside the vector are skipped;
+    the words this leaves wrong are never read by eq. (6)). The two differ only in the
+    operation count (a reading of Table V).
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        A modified validation matrix (nonnegative; ``m <= 16``).
+    order : {"paper", "reversed"}
+    words : {"needed", "all"}
+
+    Returns
+    -------
+    InSituRun
+
+    Raises
+    ------
+    ValueError
+        For a bad MVM or option, or when no feasible event has positive probability.
+    """
+    w = _as_mvm(mvm)
+    order = as_choice(order, "order", ("paper", "reversed"))
+    words = as_choice(words, "words", ("needed", "all"))
+    m1, T = w.shape
+    m = m1 - 1
+    full = (1 << m) - 1
+    vec_words = mu_words(m, max(0, m - T + 1)).tolist()  # Table II order, Table III length
+    pos = {x: i for i, x in enumerate(vec_words)}
+    bits = {x: [j for j in range(m) if (x >> j) & 1] for x in vec_words}
+    buf = [0.0] * len(vec_words)  # the one working vector
+    ops = OpCount()
+    out = np.zeros((m1, T))
+    per_target = []
+    for t in range(T):
+        cols = list(range(T))
+        cols[0], cols[t] = cols[t], cols[0]
+        formed = 0
+        if T == 1:  # no other target: b' is all ones
+            b_prime = [1.0] * m1
+        else:
+            col = w[:, cols[T - 1]].tolist()  # Sec. III.B: f[w] = f0 + sum_{j in w} f_j
+            for x in vec_words:
+                s = col[0]
+                for j in bits[x]:
+                    s += col[j + 1]
+                buf[pos[x]] = s
+                ops.add(n_add=len(bits[x]))
+            formed += 1
+            for q in range(T - 2, 0, -1):  # Sec. III.C: fold in targets T - 1, ..., 2
+                col = w[:, cols[q]].tolist()
+                low = m - q if words == "needed" else 0
+                visit = [x for x in vec_words if len(bits[x]) >= low]
+                if order == "reversed":
+                    visit = visit[::-1]
+                for x in visit:
+                    s, n = col[0] * buf[pos[x]], 1
+                    for j in bits[x]:
+                        y = x ^ (1 << j)
+                        if y in pos:
+                            s += col[j + 1] * buf[pos[y]]
+                            n += 1
+                    buf[pos[x]] = s  # in situ: overwrites the old element of the same word
+                    ops.add(n_add=n - 1, n_mul=n)
+                formed += 1
+            b_prime = [buf[pos[full]]] + [buf[pos[full ^ (1 << j)]] for j in range(m)]
+        out[:, t] = w[:, cols[0]] * np.array(b_prime)  # eq. (6): A b'
+        ops.add(n_mul=m1)
+        per_target.append(formed + 1)
+    Z = out.sum(axis=0)
+    if not np.all(Z > 0):
+        raise ValueError("no feasible joint event of mvm has positive probability")
+    return InSituRun(out / Z, sum(per_target), tuple(per_target), len(buf), ops)
+
+
+def in_situ_study(sizes: Sequence[int], seed: int) -> pd.DataFrame:
+    """:func:`beta_in_situ` on one random fully gated MVM per ``m, T`` in ``sizes``.
+
+    The MVMs are :func:`projtrack.scenes.jpda.random_mvm` draws from ``default_rng(seed)``,
+    ``m`` outer, ``T`` inner. One row per ``(m, T)``: the vectors formed (and ``T^2``), the
+    working-vector length (and Table III's), whether beta equals the enumeration
+    (:func:`projtrack.jpda.beta_enumerated`) to ``1e-12``, whether the operation count
+    equals :func:`projtrack.jpda.beta_paper`'s (Table V), and the largest beta error with
+    the words visited in the reversed order.
+    """
+    sizes = _sizes(sizes)
+    seed = as_int(seed, "seed", minimum=0)
+    rng = np.random.default_rng(seed)
+    rows = []
+    for m in sizes:
+        for T in sizes:
+            w = random_mvm(rng, m, T)
+            run = beta_in_situ(w)
+            ref = beta_enumerated(w)
+            paper_ops = OpCount()
+            beta_paper(w, ops=paper_ops)
+            rows.append({"m": m, "T": T, "vectors formed": run.vectors, "T^2": T * T,
+                         "working vector": run.buffer_length, "Table III": vector_size(m, T),
+                         "beta exact": bool(np.abs(run.beta - ref).max() < 1e-12),
+                         "ops = Table V count": (run.ops.additions, run.ops.multiplications)
+                         == (paper_ops.additions, paper_ops.multiplications),
+                         "reversed order: max |beta error|":
+                             float(np.abs(beta_in_situ(w, order="reversed").beta - ref).max())})
+    return pd.DataFrame(rows)
+
+
+# -- "the improvement factor increases significantly as m and T increase" -----------------------
+
+def savings(m: int, T: int) -> tuple[float, float]:
+    """Conventional / fast (additions, multiplications) on an all-ones ``m x T`` MVM.
+
+    The conventional count is the closed form :func:`projtrack.jpda.conventional_op_count`
+    (equal to the instrumented enumeration, Table IV), the fast one
+    :func:`projtrack.jpda.fast_op_count` (Table V). ``m <= 22``.
+    """
+    m = as_int(m, "m", minimum=1, maximum=22)
+    T = as_int(T, "T", minimum=1)
+    c, f = conventional_op_count(m, T), fast_op_count(m, T)
+    return c.additions / f.additions, c.multiplications / f.multiplications
+
+
+def savings_paths(ns: Sequence[int], fixed: int = 3, diagonal_max: int = 12) -> pd.DataFrame:
+    """The savings factor (Table VI) along three paths: ``m = T = n``, ``T = fixed`` with
+    ``m = n``, and ``m = fixed`` with ``T = n``.
+
+    One row per ``n`` of ``ns``; each cell is ``"additions/multiplications"`` rounded
+    half-up to one decimal as Table VI prints them (:func:`half_up`, exact), or "—" on the
+    diagonal past ``diagonal_max`` (the fast algorithm's count there needs ``2^n`` words per
+    stage).
+    """
+    ns = _sizes(ns)
+    fixed = as_int(fixed, "fixed", minimum=1)
+    diagonal_max = as_int(diagonal_max, "diagonal_max", minimum=1, maximum=16)
+
+    def cell(m: int, T: int) -> str:
+        c, f = conventional_op_count(m, T), fast_op_count(m, T)
+        return (f"{half_up(c.additions, f.additions):.1f}/"
+                f"{half_up(c.multiplications, f.multiplications):.1f}")
+
+    return pd.DataFrame([{"n": n, "m = T = n": cell(n, n) if n <= diagonal_max else "—",
+                          f"T = {fixed}, m = n": cell(n, fixed), f"m = {fixed}, T = n": cell(fixed, n)}
+                         for n in ns])
+
+
+def in_situ_summary(study: pd.DataFrame) -> pd.DataFrame:
+    """One row per ``T`` of an :func:`in_situ_study` table, over all its ``m``.
+
+    Columns: ``T``; ``vectors formed`` (the count when every ``m`` gives the same, else -1);
+    ``T^2``; ``working vector`` (its length for each ``m``, as text); ``one vector, exact``
+    (every run formed its vectors in a working vector of the Table III length, with beta
+    equal to the enumeration and Table V's operation count); and the largest beta error of
+    the reversed visiting order.
+    """
+    need = {"m", "T", "vectors formed", "T^2", "working vector", "Table III", "beta exact",
+            "ops = Table V count", "reversed order: max |beta error|"}
+    if not isinstance(study, pd.DataFrame) or not need <= set(study.columns) or study.empty:
+        raise ValueError("study must be a non-empty in_situ_study table")
+    rows = []
+    for T, g in study.groupby("T", sort=True):
+        counts = set(g["vectors formed"])
+        rows.append({"T": int(T), "vectors formed": int(counts.pop()) if len(counts) == 1 else -1,
+                     "T^2": int(T) ** 2,
+                     "working vector, m = " + f"{g['m'].min()}..{g['m'].max()}":
+                         ", ".join(str(x) for x in g["working vector"]),
+                     "one vector, exact": bool((g["working vector"] == g["Table III"]).all()
+                                               and g["beta exact"].all() and g["ops = Table V count"].all()),
+                     "reversed order: largest error": float(g["reversed order: max |beta error|"].max())})
+    return pd.DataFrame(rows)
