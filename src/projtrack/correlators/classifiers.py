@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 import scipy.fft
 
-from projtrack._validation import as_int
+from projtrack._validation import as_bool, as_int
 
 from ._checks import as_angles, as_stack
 from .projections import project_stack
@@ -39,8 +39,8 @@ class CorrelationFilterBank:
     """
 
     def __init__(self, zero_mean: bool = True, normalize: bool = True):
-        self.zero_mean = zero_mean
-        self.normalize = normalize
+        self.zero_mean = as_bool(zero_mean, "zero_mean")
+        self.normalize = as_bool(normalize, "normalize")
 
     def _prepare(self, X: np.ndarray) -> np.ndarray:
         X = X.copy()
@@ -143,7 +143,7 @@ class ProjectionCorrelationClassifier(CorrelationFilterBank):
                  normalize_projections: bool = True):
         super().__init__(zero_mean, normalize)
         self.angles = as_angles(angles)
-        self.normalize_projections = normalize_projections
+        self.normalize_projections = as_bool(normalize_projections, "normalize_projections")
 
     def _unit(self, P: np.ndarray) -> np.ndarray:
         if not self.normalize_projections:

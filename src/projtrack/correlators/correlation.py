@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.signal
 
+from projtrack._validation import as_bool
+
 from ._checks import as_angle, as_image, as_signal
 from .projections import _axis, is_lattice_angle, project
 
@@ -70,6 +72,7 @@ def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, re
     return_r : bool, default False
         Also return the r of each output sample (0 where the centres of f and g align).
     """
+    return_r = as_bool(return_r, "return_r")
     f = as_image(f, "f")
     g = as_image(g, "g")
     theta = as_angle(theta_deg)

@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from scipy.ndimage import maximum_filter
 
-from projtrack._validation import as_real, as_shape2
+from projtrack._validation import as_bool, as_real, as_shape2
 
 from ._checks import as_angles, as_image, as_signal
 from .correlation import _plane_shape, projection_correlation
@@ -63,6 +63,7 @@ def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[flo
         ``"map"``: the backprojected minimum on the correlation-plane grid;
         ``"projections"`` and ``"r"``: the normalized projection correlations and their axes.
     """
+    zero_mean_template = as_bool(zero_mean_template, "zero_mean_template")
     scene = as_image(scene, "scene")
     template = as_image(template, "template")
     angles = as_angles(angles)

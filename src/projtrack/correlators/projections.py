@@ -29,7 +29,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse
 
-from projtrack._validation import as_shape2
+from projtrack._validation import as_bool, as_shape2
 
 from ._checks import as_angle, as_freqs, as_image, as_stack
 
@@ -156,6 +156,7 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
     r : numpy.ndarray, optional
         Bin positions in pixels, 0 at the centre of the array.
     """
+    return_r = as_bool(return_r, "return_r")
     arr = as_image(image, "image")
     theta = as_angle(theta_deg)
     if is_lattice_angle(theta) and int(round(theta / 45.0)) % 2 == 0:

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.special import logsumexp
 
-from projtrack._validation import as_array
+from projtrack._validation import as_array, as_bool
 
 __all__ = [
     "viterbi",
@@ -111,6 +111,7 @@ def check_row_stochastic(matrix: object, *, log: bool = False, name: str = "matr
     atol : float
         Tolerance on each row sum.
     """
+    log = as_bool(log, "log")
     if sp.issparse(matrix):
         csr = sp.csr_array(matrix, dtype=float)
         vals = np.exp(csr.data) if log else csr.data
@@ -185,11 +186,11 @@ def _segment_logsumexp(vals: np.ndarray, indptr: np.ndarray, nonempty: np.ndarra
 
 
 def viterbi(log_start: object, log_trans: object, log_emission: object) -> np.ndarray:
-    """Most likely state path of a hidden Markov model (Viterbi, in log space).
+    r"""Most likely state path of a hidden Markov model (Viterbi, in log space).
 
-    Sec. 3.3 of Marques et al.: the discrete state sequence ``u`` maximising
-    ``P(u | y)`` given the motion model (eq. (13)) and the sensor model
-    ``p(y(t) | u(t))``.
+    Sec. 3.3 of Marques et al.: the discrete state sequence :math:`u` maximising
+    :math:`P(u \mid y)` given the motion model (eq. (13)) and the sensor model
+    :math:`p(y(t) \mid u(t))`.
 
     Parameters
     ----------
@@ -217,9 +218,25 @@ def viterbi(log_start: object, log_trans: object, log_emission: object) -> np.nd
 
     Notes
     -----
-    The dense recursion costs ``O(N S^2)``, the sparse one ``O(N nnz)``. The scores of
-    every step are kept (``N x S`` floats) and back-pointers are recovered during the
-    traceback, one column at a time.
+    The dense recursion costs :math:`O(N S^2)`, the sparse one :math:`O(N\,\mathrm{nnz})`.
+    The scores of every step are kept (:math:`N \times S` floats) and back-pointers are
+    recovered during the traceback, one column at a time.
+
+    Examples
+    --------
+    Three states on a line, each step staying or moving one state to the right; the
+    noisy readings suggest 0, 0, 2, 2 but the path may not jump two states at once:
+
+    >>> import numpy as np
+    >>> from projtrack.dma import viterbi
+    >>> with np.errstate(divide="ignore"):
+    ...     log_trans = np.log([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.0, 0.0, 1.0]])
+    ...     log_start = np.log([1.0, 0.0, 0.0])
+    >>> states = np.arange(3.0)
+    >>> y = np.array([0.1, 0.2, 1.9, 2.1])
+    >>> log_emission = -0.5 * (y[:, None] - states[None, :]) ** 2 / 0.5 ** 2
+    >>> viterbi(log_start, log_trans, log_emission)
+    array([0, 1, 2, 2])
     """
     ch = _validate(log_start, log_trans, log_emission)
     le = ch.log_emission

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack._validation import as_array, as_int, as_real, as_rng, optional_import
 
 __all__ = ["DiscreteManifold", "learn_manifold", "select_n_regions"]
 
@@ -144,7 +144,7 @@ class DiscreteManifold:
 
 
 def _fit_gmm(X: np.ndarray, n_regions: int, rng: np.random.Generator, reg_covar: float):
-    from sklearn.mixture import GaussianMixture
+    GaussianMixture = optional_import("sklearn.mixture", "learn", "learning a manifold by EM").GaussianMixture
 
     seed = int(rng.integers(0, 2**31 - 1))
     gmm = GaussianMixture(
@@ -231,7 +231,7 @@ def learn_manifold(
     -------
     DiscreteManifold
     """
-    from sklearn.cluster import KMeans
+    KMeans = optional_import("sklearn.cluster", "learn", "learning a discrete manifold").KMeans
 
     X = _check_training_points(X)
     rng = as_rng(rng)

@@ -92,7 +92,16 @@ def _n_from_dim(N: int) -> int:
 def _matrix_list(items: object, name: str, what: str, single: str, empty: str) -> list:
     """``items`` as a non-empty list; one 2-D array is refused (it would iterate over rows)."""
     if isinstance(items, np.ndarray) and items.ndim == 2:
-        raise TypeError(f"{name} must be a sequence of {what} matrices (wrap a single {single} in a list)")
+        if single == "C":
+            k, n = items.shape
+            raise TypeError(
+                f"{name} must be a sequence of {what} matrices, got one 2-D array of shape {items.shape}: "
+                f"for {k} projection directions in {n} dimensions pass one unit vector per view, "
+                f"e.g. list(directions) (each row becomes an {n} x 1 view); for a single "
+                f"n x m view pass [C]")
+        raise TypeError(f"{name} must be a sequence of {what} matrices, got one 2-D array of shape "
+                        f"{items.shape}: pass one matrix per view (list(...) of 1 x 1 values for "
+                        f"1-D views, [Y] for a single view)")
     try:
         out = list(items)  # type: ignore[call-overload]
     except TypeError:

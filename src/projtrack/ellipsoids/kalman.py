@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_array
+from projtrack._validation import as_array, optional_import
 
 from .checks import _check_Cs, _check_Ys, _dim, _mats, _seq, check_symmetric
 from .geometry import is_psd, nearest_psd
@@ -60,7 +60,7 @@ def kalman_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obj
         Prior covariance of ``svec(X_0)``, measurement noise covariance of ``svec(W_k)``
         and process noise covariance; scalars mean multiples of the identity.
     """
-    from filterpy.kalman import KalmanFilter
+    KalmanFilter = optional_import("filterpy.kalman", "kalman", "kalman_estimate").KalmanFilter
 
     Cl = _check_Cs(Cs)
     Yl = _check_Ys(Ys, Cl)

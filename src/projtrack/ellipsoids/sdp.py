@@ -6,6 +6,8 @@ import warnings
 
 import numpy as np
 
+from projtrack._validation import optional_import
+
 from .checks import _n_from_dim
 
 __all__ = ["sdp_reconstruct"]
@@ -33,7 +35,7 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     """
     import time
 
-    import cvxpy as cp
+    cp = optional_import("cvxpy", "sdp", "the semidefinite program (method='sdp')")
 
     if info is not None and not isinstance(info, dict):
         raise TypeError(f"info must be a dict or None, got {type(info).__name__}")

@@ -313,6 +313,10 @@ class TrackEstimate:
         Details of the projection procedure.
     frame_time : float
         ``T``.
+    refined : bool
+        ``False`` for the paper's estimate (Eqs. (5)-(7)); ``True`` when ``position``,
+        ``velocity``, ``speed`` and ``covariance`` come from the least-squares refinement
+        of :class:`TrackInitiator` (``refine=True``).
     """
 
     rho: float
@@ -326,6 +330,7 @@ class TrackEstimate:
     direction: np.ndarray
     projection: ProjectionResult
     frame_time: float
+    refined: bool = False
 
     def predict(self, k: int | float) -> np.ndarray:
         """Position ``k`` frames after the most recent one, at constant velocity."""

@@ -15,7 +15,7 @@ from math import ceil
 import numpy as np
 from scipy import ndimage
 
-from projtrack._validation import as_real, as_shape2
+from projtrack._validation import as_bool, as_real, as_shape2
 from projtrack.hough import _kernel
 from projtrack.hough._checks import (_check_binary_image, _check_frames, _check_origin, _check_points,
                                      _origin_xy)
@@ -123,6 +123,7 @@ def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,
     >>> [(round(r), round(t)) for r, t in find_peaks(H, rhos, thetas)]
     [(-28, 90)]
     """
+    allow_empty = as_bool(allow_empty, "allow_empty")
     shape = as_shape2(shape)
     rhos, thetas = hough_axes(shape, drho, dtheta_deg, origin)
     pts = _check_points(points, shape, allow_empty=allow_empty)

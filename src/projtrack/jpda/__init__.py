@@ -48,6 +48,7 @@ from .validation import (
     gate_threshold,
     mahalanobis_sq,
     modified_validation_matrix,
+    mvm_from_positions,
     mvm_to_validation,
     validation_matrix,
 )
@@ -79,6 +80,7 @@ __all__ = [
     "mahalanobis_sq",
     "validation_matrix",
     "modified_validation_matrix",
+    "mvm_from_positions",
     "mvm_to_validation",
     "OpCount",
     "beta",

@@ -133,8 +133,10 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
         return _kernel.fb_sweep(W, u, v, ops)  # compiled, same recursions (numba)
     if W.shape[1] < 12:
         return _fb_sweep(W, u, v, ops)
-    from threadpoolctl import threadpool_limits  # a dependency of scikit-learn
-
+    try:
+        from threadpoolctl import threadpool_limits  # optional (projtrack[fast])
+    except ImportError:  # BLAS threads then stay as configured; the results are the same
+        return _fb_sweep(W, u, v, ops)
     with threadpool_limits(limits=1, user_api="blas"):
         return _fb_sweep(W, u, v, ops)
 

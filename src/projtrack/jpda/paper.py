@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack._validation import as_array, as_bool, as_int, as_real, as_rng
 
 from ._checks import _check_mvm, _fail_no_event, _normalize_columns
 
@@ -211,6 +211,7 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
     rng : numpy.random.Generator, optional
         Required when ``vip_noise > 0``.
     """
+    store_intermediates = as_bool(store_intermediates, "store_intermediates")
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1

@@ -113,6 +113,7 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     -------
     NetResult
     """
+    record = as_bool(record, "record")
     c = _as_coefficients(coefficients)
     D = _check_D(D, batched=True)
     X = _check_states(X0, D)

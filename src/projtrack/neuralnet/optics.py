@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from scipy import sparse
 
-from projtrack._validation import as_int
+from projtrack._validation import as_bool, as_int
 
 from ._checks import _check_D
 from .coefficients import Coefficients, _as_coefficients
@@ -198,6 +198,7 @@ def gradient_linear_algebra(x: np.ndarray, D: np.ndarray, n_targets: int,
     -------
     ndarray, shape (K,)
     """
+    reduced = as_bool(reduced, "reduced")
     c = _as_coefficients(coefficients)
     D = _check_D(D)
     n_t = as_int(n_targets, "n_targets", 1)

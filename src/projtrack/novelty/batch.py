@@ -5,6 +5,8 @@ from typing import Any
 
 import numpy as np
 
+from projtrack._validation import as_bool
+
 from ._checks import as_frames, as_positive_count, as_tolerance
 from ._linalg import _eigh_desc, _sign_fix
 from .results import KLBasis
@@ -28,6 +30,7 @@ def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
     -------
     numpy.ndarray, shape (I, I)
     """
+    center = as_bool(center, "center")
     x = as_frames(frames).reshape(len(frames), -1)
     if center:
         x = x - x.mean(axis=0)
@@ -39,6 +42,7 @@ def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
     This is the matrix whose eigen-decomposition Eqs. (2)-(3) avoid; it serves as the oracle.
     """
+    center = as_bool(center, "center")
     x = as_frames(frames).reshape(len(frames), -1)
     if x.shape[1] > 4096:
         raise ValueError(f"frames: {x.shape[1]} pixels per frame would give a "
@@ -73,6 +77,7 @@ def batch_kl(frames: Any, center: bool = False, n_components: int | None = None,
     KLBasis
         ``eigenvalues`` (descending, positive) and unit-norm ``eigenimages`` ``(K, *shape)``.
     """
+    center = as_bool(center, "center")
     a = as_frames(frames)
     shape = a.shape[1:]
     x = a.reshape(a.shape[0], -1)
