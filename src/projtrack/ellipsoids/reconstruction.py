@@ -130,7 +130,7 @@ def reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: object = None
     >>> X_hat = reconstruct(Ys, Cs)
     >>> lengths, _ = axes(X_hat)
     >>> np.round(lengths, 2)
-    array([3.  , 1.01])
+    array([3., 1.])
     """
     method = as_choice(method, "method", ("ls", "halfspace", "sdp"))
     rank_deficient = as_choice(rank_deficient, "rank_deficient", ("raise", "warn"))

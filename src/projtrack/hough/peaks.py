@@ -224,7 +224,8 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "lo
     each suppressing the weaker ones in that neighbourhood, up to ``num_peaks``. When
     the plane covers [0, 180) degrees with a symmetric ``rho`` axis, the neighbourhood
     wraps around in ``theta`` (the cell :math:`(\rho, \theta + 180)` is
-    :math:`(-\rho, \theta)`). Each peak is reported at its cell's ``(rho, theta)``.
+    :math:`(-\rho, \theta)`). Each peak is reported at its cell's ``(rho, theta)``, or
+    at the centre of its flat top when adjacent cells hold the same votes.
 
     ``method="ratio"`` is the rule of Sec. VII of the paper (the book uses it): a cell
     is a peak cell when the ratio of the exact HT to its ``size x size`` local average
@@ -286,7 +287,7 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "lo
     >>> len(peaks)
     3
     >>> sorted(round(th) for _, th in peaks)
-    [0, 45, 117]
+    [0, 45, 116]
     """
     as_choice(method, "method", ("local-max", "ratio"))
     if method == "ratio":
@@ -328,7 +329,13 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "lo
             taken.append((i, j))
             if num_peaks is not None and len(taken) >= num_peaks:
                 break
-    return [(float(r[i]), float(t[j])) for i, j in taken]
+    out = []
+    for i, j in taken:  # a flat top (equal votes in adjacent cells) is reported at its centre
+        i0, i1, j0, j1 = max(0, i - md), min(nr, i + md + 1), max(0, j - ma), min(nt, j + ma + 1)
+        lab, _ = ndimage.label(Hf[i0:i1, j0:j1] == Hf[i, j], structure=np.ones((3, 3), dtype=bool))
+        ii, jj = np.nonzero(lab == lab[i - i0, j - j0])
+        out.append((float(r[ii + i0].mean()), float(t[jj + j0].mean())))
+    return out
 
 
 def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0, dtheta_deg: float = 1.0,

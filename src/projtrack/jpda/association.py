@@ -114,10 +114,10 @@ def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np
     ...                 [0.0, 0.4]])    # measurement 3: only target 1
     >>> b = beta(mvm)
     >>> np.round(b, 3)
-    array([[0.057, 0.08 ],
-           [0.607, 0.   ],
-           [0.336, 0.439],
-           [0.   , 0.481]])
+    array([[0.136, 0.111],
+           [0.679, 0.   ],
+           [0.185, 0.444],
+           [0.   , 0.444]])
     >>> np.allclose(b.sum(axis=0), 1)
     True
     """

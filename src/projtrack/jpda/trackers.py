@@ -178,8 +178,8 @@ class JPDATracker:
     >>> np.round(x[:, [0, 2]], 1)
     array([[-4.1, -3.9],
            [-3.9,  4.1]])
-    >>> np.round(trk.last_beta_[:, 0], 3)   # target 0: measurement 1, nothing else
-    array([0.   , 1.   , 0.   , 0.   ])
+    >>> np.round(trk.last_beta_[:, 0], 3)   # target 0: almost surely measurement 1
+    array([0.002, 0.998, 0.   , 0.   ])
     """
 
     def __init__(self, x0, P0, F, Q, H, R, p_detect: float = 0.9,
