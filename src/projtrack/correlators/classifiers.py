@@ -110,7 +110,7 @@ class CorrelationFilterBank:
 
 
 class ProjectionCorrelationClassifier(CorrelationFilterBank):
-    """Bank of 1-D projection-correlation filters, one set per class (Sec. III.C).
+    """Bank of 1-D projection-correlation filters, one set per class (Section III.C).
 
     Each class keeps the projections of its (zero-mean, unit-energy) reference at the
     given angles. An input is projected at the same angles, correlated (full, bipolar)

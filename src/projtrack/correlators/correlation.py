@@ -41,7 +41,8 @@ def correlate1d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 
 def correlate2d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """Full bipolar 2-D cross-correlation of an input ``f`` with a reference ``g``, by FFT.
+    """Full bipolar 2-D cross-correlation of an input :math:`f` with a reference :math:`g`,
+    by FFT.
 
     Returns the signed (not intensity-detected) plane of shape
     ``(Hf + Hg - 1, Wf + Wg - 1)``, ``c[p, q] = sum f[i, j] g[i - p + Hg - 1, j - q + Wg - 1]``.
@@ -57,7 +58,8 @@ def _plane_shape(f: np.ndarray, g: np.ndarray) -> tuple[int, int]:
 
 
 def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, return_r: bool = False):
-    """1-D correlation of the projections of ``f`` and ``g`` at angle theta, Eq. (3).
+    r"""1-D correlation of the projections of :math:`f` and :math:`g` at angle
+    :math:`\theta`, Equation (3).
 
     Equal to ``project(correlate2d(f, g), theta_deg)`` (the *integrated 2-D correlation*),
     on the same bins: exactly (to floating-point accuracy) for multiples of 45 degrees,
@@ -129,5 +131,6 @@ def circular_correlate(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 
 def integrated_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float) -> np.ndarray:
-    """Projection at angle theta of the full 2-D bipolar correlation (Sec. II.B)."""
+    r"""Projection at angle :math:`\theta` of the full 2-D bipolar correlation (Section
+    II.B)."""
     return project(correlate2d(f, g), theta_deg)

@@ -47,7 +47,8 @@ def backprojection_min(projections: Sequence[np.ndarray], r_axes: Sequence[np.nd
 
 def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[float],
                    threshold: float = 0.8, *, zero_mean_template: bool = True) -> dict[str, object]:
-    """Locate copies of ``template`` in ``scene`` from a few projection correlations (Fig. 10).
+    """Locate copies of ``template`` in ``scene`` from a few projection correlations
+    (Figure 10).
 
     Each projection correlation of the scene with the template is divided by the
     template's own projection-autocorrelation peak at that angle (so one object gives 1),

@@ -10,7 +10,7 @@ __all__ = ["zero_mean", "normalize_energy"]
 
 
 def zero_mean(image: np.ndarray) -> np.ndarray:
-    """Subtract the mean of an image (block the dc spatial frequency), Sec. III.B.
+    """Subtract the mean of an image (block the dc spatial frequency), Section III.B.
 
     Raises
     ------
@@ -22,7 +22,7 @@ def zero_mean(image: np.ndarray) -> np.ndarray:
 
 
 def normalize_energy(image: np.ndarray) -> np.ndarray:
-    """Scale an image to unit energy (sum of squares 1), Sec. III.C.
+    """Scale an image to unit energy (sum of squares 1), Section III.C.
 
     Raises
     ------

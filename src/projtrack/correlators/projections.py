@@ -107,7 +107,7 @@ def _general_range(shape: tuple[int, int], theta: float) -> tuple[int, int]:
 
 
 def projection_axis(shape: tuple[int, int], theta_deg: float) -> np.ndarray:
-    """The ``r`` coordinate (in pixels, 0 at the array centre) of each projection bin.
+    """The :math:`r` coordinate (in pixels, 0 at the array centre) of each projection bin.
 
     Parameters
     ----------
@@ -133,7 +133,7 @@ def _axis(shape: tuple[int, int], theta: float) -> np.ndarray:
 
 
 def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
-    """Projection ``p_theta(r)`` of an image, Eq. (1) of Casasent & Song.
+    r"""Projection :math:`p_\theta(r)` of an image, Equation (1) of Casasent & Song.
 
     ``p_theta(r) = sum over pixels of f(x, y) [pixel on the line x cos(theta) + y sin(theta) = r]``
     with exact whole-pixel binning for multiples of 45 degrees and linear interpolation
@@ -172,14 +172,16 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
 
 
 def project_stack(images: np.ndarray, theta_deg: float) -> np.ndarray:
-    """:func:`project` applied to every image of a stack ``(n, H, W)``; returns ``(n, n_bins)``."""
+    """:func:`project` applied to every image of a stack ``(n, H, W)``; returns ``(n,
+    n_bins)``."""
     arr = as_stack(images, "images")
     mat, _ = _operator(arr.shape[1:], as_angle(theta_deg))
     return np.asarray((mat @ arr.reshape(arr.shape[0], -1).T).T)
 
 
 def projection_spectrum(image: np.ndarray, theta_deg: float, rho: np.ndarray) -> np.ndarray:
-    """1-D Fourier transform ``P_theta(rho)`` of the projection, the left side of Eq. (2).
+    r"""1-D Fourier transform :math:`P_\theta(\rho)` of the projection, the left side of
+    Equation (2).
 
     ``P(rho) = sum_k p(r_k) exp(-2 pi i rho r_k)`` at the frequencies ``rho`` (cycles per
     pixel), with ``r_k`` from :func:`project`.
@@ -190,7 +192,7 @@ def projection_spectrum(image: np.ndarray, theta_deg: float, rho: np.ndarray) ->
 
 
 def fourier_slice(image: np.ndarray, theta_deg: float, rho: np.ndarray) -> np.ndarray:
-    """The 2-D Fourier transform of the image along the line at angle theta, Eq. (2).
+    """The 2-D Fourier transform of the image along the line at angle theta, Equation (2).
 
     ``F(rho cos(theta), rho sin(theta)) = sum f(x, y) exp(-2 pi i rho (x cos(theta) + y sin(theta)))``
     with the centred coordinates of the module conventions. By the central slice theorem

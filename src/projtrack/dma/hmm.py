@@ -296,7 +296,7 @@ def _forward(ch: _Chain) -> tuple[np.ndarray, float]:
 
 
 def forward_filter(log_start: object, log_trans: object, log_emission: object) -> np.ndarray:
-    """Filtered (on-line) log posteriors ``log P(u(t) | y(1..t))``.
+    r"""Filtered (on-line) log posteriors :math:`\log P(u(t) \mid y(1..t))`.
 
     The forward pass of the forward-backward algorithm (Sec. 3.3: "used when an on-line
     estimate of the state variable is required"), in log space. Arguments as in
@@ -313,7 +313,7 @@ def forward_filter(log_start: object, log_trans: object, log_emission: object) -
 
 
 def forward_backward(log_start: object, log_trans: object, log_emission: object) -> tuple[np.ndarray, float]:
-    """Smoothed log posteriors ``log P(u(t) | y(1..N))`` and the log-likelihood.
+    r"""Smoothed log posteriors :math:`\log P(u(t) \mid y(1..N))` and the log-likelihood.
 
     The forward-backward algorithm in log space (no underflow on long sequences).
     Arguments as in :func:`viterbi`.
@@ -351,7 +351,7 @@ def forward_backward(log_start: object, log_trans: object, log_emission: object)
 
 
 def path_log_probability(path: object, log_start: object, log_trans: object, log_emission: object) -> float:
-    """Joint log-probability ``log P(u, y)`` of a state path (the Viterbi objective).
+    r"""Joint log-probability :math:`\log P(u, y)` of a state path (the Viterbi objective).
 
     Parameters
     ----------

@@ -23,7 +23,7 @@ __all__ = ["DiscreteManifold", "learn_manifold", "select_n_regions"]
 
 @dataclass
 class DiscreteManifold:
-    """A manifold split into regions, each with a local frame and prototypes (Sec. 3.1).
+    """A manifold split into regions, each with a local frame and prototypes (Section 3.1).
 
     Attributes
     ----------
@@ -160,7 +160,7 @@ def _check_training_points(X: object) -> np.ndarray:
 
 
 def select_n_regions(X: object, candidates: Sequence[int], rng: np.random.Generator, *, reg_covar: float = 1e-6) -> tuple[int, np.ndarray]:
-    """Choose the number of regions ``M`` by the Bayesian information criterion.
+    """Choose the number of regions :math:`M` by the Bayesian information criterion.
 
     Sec. 3.1: "M is either assumed a priori known or estimated from the data by a
     suitable method, e.g., minimum description length (MDL)". BIC has the same form as
@@ -194,7 +194,7 @@ def learn_manifold(
     max_mse: float | None = None,
     reg_covar: float = 1e-6,
 ) -> DiscreteManifold:
-    """Learn a discrete manifold model from points (Sec. 3.1 of Marques et al.).
+    """Learn a discrete manifold model from points (Section 3.1 of Marques et al.).
 
     1. EM for a Gaussian mixture with ``n_regions`` full-covariance modes (eqs. (1)-(5)).
     2. Hard regions by the smallest squared Mahalanobis distance (eq. (6)).

@@ -44,7 +44,7 @@ def estimate_transitions(
     alpha: float = 1e-3,
     neighbors: object | None = None,
 ) -> sp.csr_array:
-    """Transition matrix ``A`` (eq. (13)) by relative frequencies, sparse.
+    """Transition matrix :math:`A` (equation (13)) by relative frequencies, sparse.
 
     ``a_kl = P(u(t) = u_k | u(t-1) = u_l)`` (eqs. (10)-(12); here stored row ``l``,
     column ``k``, so rows sum to one) is the number of observed ``l -> k`` transitions
@@ -129,7 +129,7 @@ def transitions_from_velocity_field(
     project: object | None = None,
     exclude_self: bool = False,
 ) -> sp.csr_array:
-    """Markov chain on prototypes from a known velocity field (Example 1, Fig. 6a).
+    """Markov chain on prototypes from a known velocity field (Example 1, Figure 6a).
 
     From each prototype ``u_l`` the point moves to ``p_l = u_l + dt * v(u_l)`` (then
     mapped by ``project``, e.g. back onto the sphere). The allowed transitions go to the

@@ -16,7 +16,8 @@ _SYM_TOL = 1e-9
 
 
 def check_symmetric(X: object, name: str = "X", n: int | None = None) -> np.ndarray:
-    """Return ``X`` as a float array after checking it is a finite symmetric square matrix.
+    """Return :math:`X` as a float array after checking it is a finite symmetric square
+    matrix.
 
     Parameters
     ----------
@@ -45,7 +46,7 @@ def check_symmetric(X: object, name: str = "X", n: int | None = None) -> np.ndar
 
 
 def check_orthonormal(C: object, name: str = "C", n: int | None = None, tol: float = 1e-8) -> np.ndarray:
-    """Return ``C`` as a 2-D float array after checking its columns are orthonormal.
+    """Return :math:`C` as a 2-D float array after checking its columns are orthonormal.
 
     A 1-D array is taken as a single column (an ``n x 1`` projection, KVW Sec. 3).
 

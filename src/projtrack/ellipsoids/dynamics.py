@@ -24,7 +24,7 @@ def _rot_t(a: float) -> np.ndarray:
 
 
 def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarray:
-    """The planar shaping matrix ``A`` of eq. (23).
+    """The planar shaping matrix ``A`` of equation (23).
 
     ``A = R^T(psi) diag(tau, tau) diag(alpha, 1/alpha) R^T(phi)`` with ``R`` the rotation
     matrix; ``X -> A^T X A`` rotates the ellipse by ``psi``, magnifies it by ``tau``,
@@ -40,7 +40,8 @@ def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarr
 
 
 def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = None) -> np.ndarray:
-    """Simulate eq. (20): ``X_{k+1} = A_k^T X_k A_k + B_k``; returns ``(n_steps + 1, n, n)``.
+    """Simulate equation (20), :math:`X_{k+1} = A_k^T X_k A_k + B_k`; returns ``(n_steps +
+    1, n, n)``.
 
     ``As`` (and ``Bs``) are one matrix (constant) or a sequence; ``n_steps`` defaults to
     ``len(As)``. ``Bs=None`` means no drive.
@@ -62,7 +63,8 @@ def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = No
 
 
 def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """The vector form (21): ``A~_k`` (matrix of ``X -> A_k^T X A_k``) and ``b_k = svec(B_k)``."""
+    r"""The vector form (21): :math:`\tilde A_k` (the matrix of :math:`X \mapsto A_k^T X
+    A_k`) and :math:`b_k = \operatorname{svec}(B_k)`."""
     At = [congruence_operator(A) for A in As]
     if Bs is None:
         bt = [np.zeros(At[0].shape[0]) for _ in At]
@@ -72,7 +74,8 @@ def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None
 
 
 def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarray:
-    """The batch (observability) matrix of eq. (25): rows ``C~_k A~_{k-1} ... A~_0``.
+    r"""The batch (observability) matrix of equation (25): rows :math:`\tilde C_k \tilde
+    A_{k-1} \cdots \tilde A_0`.
 
     ``Cs`` has ``r + 1`` projections (times ``0..r``); ``As`` is one ``n x n`` matrix (a
     constant dynamics) or a sequence of exactly ``r`` matrices ``A_0..A_{r-1}``.
@@ -97,7 +100,7 @@ def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarr
 
 
 def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None) -> np.ndarray:
-    """The corrected observation vector ``y`` of eq. (25) (known drive removed).
+    """The corrected observation vector ``y`` of equation (25) (known drive removed).
 
     ``As`` and ``Bs`` are one matrix each (constant) or sequences of exactly
     ``len(Cs) - 1`` matrices (ValueError otherwise).
@@ -119,7 +122,8 @@ def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], 
 
 
 def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
-    """True when the observability matrix of eq. (25) has full column rank ``n(n+1)/2``."""
+    """True when the observability matrix of equation (25) has full column rank
+    :math:`n(n+1)/2`."""
     O = observability_matrix(Cs, As)
     return _rank(O) == O.shape[1]
 
@@ -127,7 +131,8 @@ def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
 def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None,
                    lower: object = None, upper: object = None, method: str = "ls",
                    **options: object) -> np.ndarray:
-    """Batch estimate of ``X_0`` from ``Y_0..Y_r`` (eq. 24) and its propagation (eq. 20).
+    r"""Batch estimate of :math:`X_0` from :math:`Y_0, \dots, Y_r` (equation 24) and its
+    propagation (equation 20).
 
     ``method="ls"`` is ``x_0 = C^+ y`` (Sec. 6.2); ``"halfspace"``/``"sdp"`` impose
     ``lower <= X_0 <= upper``. Raises ``ValueError`` if the system is not observable
@@ -160,7 +165,8 @@ def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obje
 
 def batch_estimate_many(Ys: object, Cs: Sequence[object], As: Sequence[object] | object,
                         Bs: Sequence[object] | object | None = None) -> np.ndarray:
-    """Unconstrained batch LS estimate (eqs. 24-25) for many data sets at once, propagated by eq. (20).
+    """Unconstrained batch LS estimate (equations 24-25) for many data sets at once,
+    propagated by equation (20).
 
     The estimate ``x_0 = C^+ (y - forced)`` is linear in the data, so the observability
     matrix, the drive's response and the propagation are computed once and applied to all
@@ -238,7 +244,8 @@ def batch_estimate_many(Ys: object, Cs: Sequence[object], As: Sequence[object] |
 
 
 def reconstruct_many(Ys: object, Cs: Sequence[object]) -> np.ndarray:
-    """Unconstrained LS estimates ``x = C^+ y`` (eq. 15) of many data sets at once.
+    r"""Unconstrained LS estimates :math:`x = \mathcal{C}^+ y` (equation 15) of many data
+    sets at once.
 
     The static problem is the dynamic one with ``A = I`` and no drive, so this is
     :func:`batch_estimate_many` at time 0; for one data set it equals :func:`reconstruct`.

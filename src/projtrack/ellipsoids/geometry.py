@@ -12,7 +12,8 @@ __all__ = ["axes", "support", "volume", "boundary_points", "conic_points", "is_p
 
 
 def is_psd(X: object, tol: float = 1e-10) -> bool:
-    """True when the smallest eigenvalue of the symmetric ``X`` is >= ``-tol * max(1, ||X||)``."""
+    r"""True when the smallest eigenvalue of the symmetric :math:`X` is at least
+    :math:`-\mathrm{tol} \max(1, \|X\|)`."""
     Xm = check_symmetric(X)
     return bool(np.linalg.eigvalsh(Xm)[0] >= -tol * max(1.0, float(np.linalg.norm(Xm, 2))))
 
@@ -26,7 +27,8 @@ def nearest_psd(X: object) -> np.ndarray:
 
 
 def axes(X: object) -> tuple[np.ndarray, np.ndarray]:
-    """Semi-axis lengths ``sqrt(lambda_i)`` and axis directions ``v_i`` (KVW Sec. 2).
+    r"""Semi-axis lengths :math:`\sqrt{\lambda_i}` and axis directions :math:`v_i` (KVW
+    Section 2).
 
     Returns ``(lengths, directions)`` sorted by decreasing length; ``directions[:, i]`` is
     the unit vector of the i-th axis.
@@ -45,7 +47,8 @@ def axes(X: object) -> tuple[np.ndarray, np.ndarray]:
 
 
 def support(X: object, u: object) -> np.ndarray:
-    """Support function ``h(u) = sqrt(u^T X u)`` of eq. (1) for unit vector(s) ``u``.
+    r"""Support function :math:`h(u) = \sqrt{u^T X u}` of equation (1) for unit vector(s)
+    :math:`u`.
 
     ``u`` has shape ``(n,)`` or ``(k, n)``; rows are normalized.
     """
@@ -66,7 +69,8 @@ def support(X: object, u: object) -> np.ndarray:
 
 
 def volume(X: object) -> float:
-    """Volume of the ellipsoid: ``V_n sqrt(det X)``, ``V_n`` the volume of the unit n-ball."""
+    r"""Volume of the ellipsoid: :math:`V_n \sqrt{\det X}`, :math:`V_n` the volume of the
+    unit n-ball."""
     from scipy.special import gamma
 
     Xm = check_symmetric(X)
@@ -77,7 +81,8 @@ def volume(X: object) -> float:
 
 
 def boundary_points(X: object, n_points: int = 200) -> np.ndarray:
-    """Boundary of a planar ellipse ``X^{1/2} u(t)`` (eq. 1; a segment if ``X`` is singular).
+    """Boundary of a planar ellipse, :math:`X^{1/2} u(t)` (equation 1; a segment if
+    :math:`X` is singular).
 
     For ``n = 3`` returns a grid of surface points ``(k, k, 3)`` with ``k = n_points``.
     """
@@ -98,7 +103,8 @@ def boundary_points(X: object, n_points: int = 200) -> np.ndarray:
 
 
 def conic_points(X: object, n_points: int = 200, extent: float = 3.0) -> list[np.ndarray]:
-    """Curve(s) ``z^T X^{-1} z = 1`` of eq. (2) for an invertible planar ``X`` of any signature.
+    """Curve(s) :math:`z^T X^{-1} z = 1` of equation (2) for an invertible planar :math:`X`
+    of any signature.
 
     A PSD ``X`` gives its ellipse; an indefinite ``X`` (a non-PSD least squares estimate)
     gives the two branches of a hyperbola, which is how KVW draw such estimates (Fig. 9).

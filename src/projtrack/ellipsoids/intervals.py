@@ -23,7 +23,8 @@ def _bound(b: object, n: int, name: str) -> np.ndarray | None:
 
 
 def interval_bounds(lower: object, upper: object, n: int, tol: float = 1e-9) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """Validate interval bounds ``lower <= X <= upper`` (Sec. 5.2); scalars mean ``alpha I``.
+    r"""Validate interval bounds :math:`L \le X \le U` (Section 5.2); a scalar
+    :math:`\alpha` means :math:`\alpha I`.
 
     Raises
     ------
@@ -40,7 +41,8 @@ def interval_bounds(lower: object, upper: object, n: int, tol: float = 1e-9) -> 
 
 
 def in_interval(X: object, lower: object = None, upper: object = None, tol: float = 1e-8) -> bool:
-    """True when ``lower - tol <= X <= upper + tol`` in the PSD order."""
+    r"""True when :math:`L - \mathrm{tol}\, I \le X \le U + \mathrm{tol}\, I` in the PSD
+    order."""
     Xm = check_symmetric(X)
     L, U = interval_bounds(lower, upper, Xm.shape[0])
     ok = True
@@ -52,7 +54,7 @@ def in_interval(X: object, lower: object = None, upper: object = None, tol: floa
 
 
 def interval_boundary_point(lower: object, upper: object, direction: object, side: str = "upper") -> np.ndarray:
-    """An element of the matrix interval that touches one of its bounds (Fig. 2 of KVW).
+    """An element of the matrix interval that touches one of its bounds (Figure 2 of KVW).
 
     Starting from the bound opposite to ``side``, moves along ``direction`` (a symmetric
     matrix, PSD for ``side="upper"``, so that the path stays above ``lower``) until the

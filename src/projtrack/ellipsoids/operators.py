@@ -15,7 +15,8 @@ __all__ = ["svec", "smat", "symmetric_basis", "ctilde", "congruence_operator", "
 
 
 def svec(X: object) -> np.ndarray:
-    """Coordinates of a symmetric matrix in the standard symmetric basis (eqs. 7 and 9).
+    """Coordinates of a symmetric matrix in the standard symmetric basis (equations 7 and
+    9).
 
     ``(x)_l = <X, M_l>``: the upper triangle row by row, off-diagonal entries times sqrt(2).
     Accepts a stack ``(..., n, n)`` of symmetric matrices.
@@ -32,7 +33,7 @@ def svec(X: object) -> np.ndarray:
 
 
 def smat(x: object) -> np.ndarray:
-    """Inverse of :func:`svec`: the symmetric matrix ``sum_l x_l M_l`` (eq. 9).
+    r"""Inverse of :func:`svec`: the symmetric matrix :math:`\sum_l x_l M_l` (equation 9).
 
     Accepts a stack ``(..., n(n+1)/2)`` of coordinate vectors.
     """
@@ -49,13 +50,15 @@ def smat(x: object) -> np.ndarray:
 
 
 def symmetric_basis(n: int) -> np.ndarray:
-    """The standard symmetric basis ``{M_l^(n)}`` of eq. (9), shape ``(n(n+1)/2, n, n)``."""
+    r"""The standard symmetric basis :math:`\{M_l^{(n)}\}` of equation (9), shape
+    ``(n(n+1)/2, n, n)``."""
     n = _as_size(n, "n", 1)
     return smat(np.eye(_dim(int(n))))
 
 
 def congruence_operator(A: object) -> np.ndarray:
-    """Matrix of the linear map ``X -> A^T X A`` in standard symmetric coordinates.
+    r"""Matrix of the linear map :math:`X \mapsto A^T X A` in standard symmetric
+    coordinates.
 
     ``A`` is any real ``n x m`` matrix; the result is ``m(m+1)/2 x n(n+1)/2`` with entries
     ``<M_i^(m), A^T M_j^(n) A>`` (eq. 10). Used for ``C~`` (orthonormal ``C``) and for the
@@ -72,7 +75,8 @@ def congruence_operator(A: object) -> np.ndarray:
 
 
 def ctilde(C: object) -> np.ndarray:
-    """The operator ``C~`` of eq. (10): ``svec(C^T X C) = C~ svec(X)`` (eq. 11).
+    r"""The operator :math:`\tilde C` of equation (10): :math:`\operatorname{svec}(C^T X C)
+    = \tilde C \operatorname{svec}(X)` (equation 11).
 
     ``C`` must have orthonormal columns (an ``n x m`` projection, KVW Sec. 3).
     """
@@ -80,7 +84,8 @@ def ctilde(C: object) -> np.ndarray:
 
 
 def svec_basis_matrix(n: int) -> np.ndarray:
-    """``n^2 x n(n+1)/2`` matrix ``P`` with ``vec(X) = P svec(X)``: its columns are ``vec(M_l)``.
+    r"""The :math:`n^2 \times n(n+1)/2` matrix :math:`P` with :math:`\operatorname{vec}(X) =
+    P \operatorname{svec}(X)`: its columns are :math:`\operatorname{vec}(M_l)`.
 
     The columns are the standard symmetric basis of eq. (9), so ``P`` has orthonormal columns
     and entries ``0``, ``1`` and ``1/sqrt(2)``; ``P^T vec(X) = svec(X)``. It is *not* the
@@ -98,18 +103,21 @@ def svec_basis_matrix(n: int) -> np.ndarray:
 
 
 def kron_operator(C: object) -> np.ndarray:
-    """The Kronecker form of eq. (6): ``vec(C^T X C) = (C^T kron C^T) vec(X)``."""
+    r"""The Kronecker form of equation (6): :math:`\operatorname{vec}(C^T X C) = (C^T
+    \otimes C^T) \operatorname{vec}(X)`."""
     Cm = check_orthonormal(C)
     return np.kron(Cm.T, Cm.T)
 
 
 def stacked_operator(Cs: Sequence[object]) -> np.ndarray:
-    """The stacked operator ``C`` of eq. (14): the ``C~_i`` of eq. (10) one above the other."""
+    r"""The stacked operator :math:`\mathcal{C}` of equation (14): the :math:`\tilde C_i` of
+    equation (10) one above the other."""
     return np.vstack([congruence_operator(C) for C in _check_Cs(Cs)])
 
 
 def project(X: object, C: object) -> np.ndarray:
-    """Orthogonal (silhouette) projection of the ellipsoid ``X`` onto ``range(C)`` (eq. 4).
+    """Orthogonal (silhouette) projection of the ellipsoid ``X`` onto ``range(C)``
+    (equation 4).
 
     Parameters
     ----------

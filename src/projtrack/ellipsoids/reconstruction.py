@@ -21,7 +21,7 @@ __all__ = ["RankDeficientWarning", "IndefiniteDataWarning", "reconstruct", "cond
 
 
 class RankDeficientWarning(UserWarning):
-    """The stacked operator of eq. (14) (or (25)) does not have full column rank."""
+    """The stacked operator of equation (14) (or (25)) does not have full column rank."""
 
 
 class IndefiniteDataWarning(UserWarning):
@@ -198,7 +198,8 @@ def condition19(Cs: Sequence[object], Ws: Sequence[object], X: object) -> tuple[
 
 
 def fit_centered_ellipse(points: object) -> np.ndarray:
-    """Fit a centered ellipsoid ``{z : z^T Y^{-1} z <= 1}`` to boundary points (ellipsoid extraction).
+    r"""Fit a centered ellipsoid :math:`\{z : z^T Y^{-1} z \le 1\}` to boundary points
+    (ellipsoid extraction).
 
     KVW (Sec. 5) assume the projected ellipsoids ``Y_i`` are extracted from the raw data
     first. This is the simplest such step: linear least squares for ``Q = Y^{-1}`` in

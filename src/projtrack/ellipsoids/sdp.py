@@ -15,7 +15,8 @@ __all__ = ["sdp_reconstruct"]
 
 def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, upper: np.ndarray | None,
                     solver: str = "CLARABEL", info: dict | None = None, **solver_options: object) -> np.ndarray:
-    """Interval-constrained least squares ``min ||A svec(X) - y||^2, lower <= X <= upper`` by cvxpy.
+    r"""Interval-constrained least squares :math:`\min \|A \operatorname{svec}(X) - y\|^2,\
+    L \le X \le U` by cvxpy.
 
     The modern reference for Sec. 5.2 / eq. (27): a semidefinite program solved by
     Clarabel (interior point, default tolerances ~1e-8). SCS at its default tolerance can

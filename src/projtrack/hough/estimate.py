@@ -47,7 +47,8 @@ def _line_frame(theta_deg: float, heading_hint: Sequence[float]) -> tuple[np.nda
 def strip_projection(points: object, shape: tuple[int, int], rho: float, theta_deg: float, *,
                      half_width: float = 2.0, heading_hint: Sequence[float] = (0.0, 1.0),
                      origin: str = "center") -> tuple[np.ndarray, float, np.ndarray]:
-    """Projection at ``dx' = 1`` of the strip ``|y'| <= half_width`` along a line (Fig. 1(a)-(c)).
+    r"""Projection at :math:`\Delta x' = 1` of the strip :math:`|y'| \le` ``half_width``
+    along a line (Figure 1(a)-(c)).
 
     In the rotated frame of the detected line, ``y' = x cos(theta) + y sin(theta) - rho``
     (signed distance) and ``x'`` runs along the line in the direction ``d`` that points
@@ -87,7 +88,8 @@ def strip_projection(points: object, shape: tuple[int, int], rho: float, theta_d
 
 
 def pulse_correlation(P: object, zero_value: float = PULSE_ZERO_VALUE) -> tuple[float, int, int]:
-    """Best correlation of a projection with a unit pulse of any width ``L`` (Sec. III).
+    """Best correlation of a projection with a unit pulse of any width :math:`L` (Section
+    III).
 
     Empty samples ``P_j = 0`` are replaced by ``zero_value`` (-10 in the paper) so that
     the best window is a contiguous run of non-empty samples; correlating with pulses of
@@ -123,7 +125,7 @@ def pulse_correlation(P: object, zero_value: float = PULSE_ZERO_VALUE) -> tuple[
 
 @dataclass(frozen=True)
 class ProjectionResult:
-    """Outcome of the projection/pulse procedure of Sec. III on one line.
+    """Outcome of the projection/pulse procedure of Section III on one line.
 
     Attributes
     ----------
@@ -163,7 +165,8 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
                           zero_value: float = PULSE_ZERO_VALUE,
                           stop_fraction: float | None = None,
                           dx_schedule: str = "double") -> ProjectionResult:
-    """Increase ``dx'`` until the 75 % rule holds, then apply Eq. (5) (Sec. III, Fig. 1(c)).
+    r"""Increase :math:`\Delta x'` until the 75 % rule holds, then apply Equation (5)
+    (Section III, Figure 1(c)).
 
     The ``dx' = 1`` projection is summed in pairs (``dx' = 2, 4, 8, ...``) up to
     ``dx_max`` (16 in Sec. V). At each resolution the projection is correlated with
@@ -247,7 +250,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
 
 def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: float = 2.0,
                      jitter_sigma: float = 0.5, total_time: float | None = None) -> dict[str, float]:
-    """Variances of the track estimates, Eqs. (8), (9), (12), (13) of Sec. VI.
+    """Variances of the track estimates, Equations (8), (9), (12), (13) of Section VI.
 
     Parameters
     ----------
@@ -290,7 +293,7 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
 
 @dataclass(frozen=True)
 class TrackEstimate:
-    """A line found by the HT and the state estimated from its strip (Sec. III).
+    """A line found by the HT and the state estimated from its strip (Section III).
 
     Attributes
     ----------
@@ -345,7 +348,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
                    heading_hint: Sequence[float] = (0.0, 1.0), votes: float = float("nan"),
                    origin: str = "center", stop_fraction: float | None = None,
                    dx_schedule: str = "double") -> TrackEstimate:
-    """Confirm one HT line and estimate the target's state (Sec. III and VI).
+    """Confirm one HT line and estimate the target's state (Section III and VI).
 
     Projects the strip ``|y'| <= drho`` of the composite ``points``
     (:func:`strip_projection`), runs the ``dx'``/pulse procedure

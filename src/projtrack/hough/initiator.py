@@ -18,7 +18,7 @@ __all__ = ["TrackInitiator"]
 
 
 class TrackInitiator:
-    r"""Hough-transform track initiator of Casasent & Slaski (Secs. II-V).
+    r"""Hough-transform track initiator of Casasent & Slaski (Sections II-V).
 
     :meth:`initiate` forms the composite of a stack of frames, its Hough transform
     (plain, or thresholded as in Sec. V), detects the peaks with the paper's ratio

@@ -35,7 +35,8 @@ def _wraps(rhos: np.ndarray, thetas: np.ndarray) -> bool:
 
 def local_average(H: object, size: int = 5, *, rhos: object | None = None,
                   thetas_deg: object | None = None, exclude_ridge: int | None = None) -> np.ndarray:
-    """The ``size x size`` local average of the Hough plane (the defocused HT of Sec. VII).
+    """The ``size x size`` local average of the Hough plane (the defocused HT of Section
+    VII).
 
     Outside the plane ``rho`` is padded with zeros; ``theta`` wraps around with
     ``(rho, theta + 180) = (-rho, theta)`` when ``rhos`` and ``thetas_deg`` show that the
@@ -115,7 +116,7 @@ class HoughPeak:
 def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0,
                  bridge: float = 1.5, min_votes: float = 3.0, size: int = 5,
                  exclude_ridge: int | None = None) -> list[HoughPeak]:
-    """Peak detector of Sec. VII with a minimum-vote floor; see :func:`find_peaks`.
+    """Peak detector of Section VII with a minimum-vote floor; see :func:`find_peaks`.
 
     ``exclude_ridge`` (default ``None``, the paper's rule) is passed to
     :func:`local_average`: with ``exclude_ridge=1`` the ratio compares a cell with the

@@ -51,7 +51,8 @@ def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
 
 
 def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np.ndarray:
-    r"""Exact JPDA association probabilities :math:`\beta_{jt}` from the MVM (Secs. III.B-D).
+    r"""Exact JPDA association probabilities :math:`\beta_{jt}` from the MVM (Sections
+    III.B-D).
 
     A feasible joint event gives each target either "no measurement" or a distinct
     validated measurement; its weight is the product over targets of the MVM entries it

@@ -266,7 +266,8 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
 
 def beta_forward_backward(mvm: object, *, ops: OpCount | None = None,
                           reference: bool = False) -> np.ndarray:
-    """Exact beta by a forward-backward pass over subsets of ``min(m, T)`` (one cluster).
+    r"""Exact beta by a forward-backward pass over subsets of :math:`\min(m, T)` (one
+    cluster).
 
     The paper's target vectors (Sec. III.C) are the backward messages of a dynamic
     program over targets whose state is the set of measurements used; storing the

@@ -16,7 +16,8 @@ __all__ = ["optical_vip_schedule", "optical_vip_stage"]
 
 
 def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
-    """Time schedule of the Fig. 5 processor for one stage (vector ``q + 1`` to ``q``).
+    """Time schedule of the Figure 5 processor for one stage (vector :math:`q + 1` to
+    :math:`q`).
 
     Every product ``p_j * t_n`` of a stage is one (time slot, laser diode, AO1 cell,
     detector) event: at each time slot the laser diodes (P1) of the old vector
@@ -64,7 +65,7 @@ def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
 def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
                       n_out: int, *, noise_std: float = 0.0,
                       rng: np.random.Generator | None = None) -> np.ndarray:
-    """Simulate Fig. 5: space-integrated products time-integrated on the P3 detectors.
+    """Simulate Figure 5: space-integrated products time-integrated on the P3 detectors.
 
     Each schedule row multiplies the laser-diode amplitude ``vec[diode]`` (P1) by the
     AO1 transmittance ``column[cell]`` (P2), and the chirp routes the product to

@@ -75,14 +75,16 @@ def vector_size(m: int, T: int) -> int:
 
 
 def vector_size_text_formula(m: int, T: int) -> int:
-    """The vector length as printed in Sec. III: ``sum_{j=max(1, m-T+1)}^m C(m, j)``."""
+    r"""The vector length as printed in Section III: :math:`\sum_{j=\max(1, m-T+1)}^{m}
+    \binom{m}{j}`."""
     m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(1, m - T + 1), m + 1))
 
 
 def stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
                  column: np.ndarray, ops: OpCount | None = None) -> np.ndarray:
-    """One in-situ stage of Sec. III.C: the vector ``T - 1`` from the vector ``T``.
+    """One in-situ stage of Section III.C: the vector :math:`T - 1` from the vector
+    :math:`T`.
 
     ``new[w] = p_0 * old[w] + sum_{j in w} p_j * old[w XOR bit_j]`` for every MU word
     ``w`` of ``words``: the XOR of ``w`` with a word of one fewer bit that leaves a
@@ -156,7 +158,7 @@ def _stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
 
 
 def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tuple[int, str, str]]:
-    """Table II regenerated: for each MU word of the vector ``e``, the VIP expression.
+    """Table II regenerated: for each MU word of the vector :math:`e`, the VIP expression.
 
     Returns ``(word, binary, expression)`` rows in the paper's order, e.g. for
     ``m = 4`` the word ``1111`` gives ``e0(f1111) + e4(f0111) + e3(f1011) + ...``:
@@ -178,7 +180,8 @@ def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tu
 def beta_paper(mvm: object, *, ops: OpCount | None = None,
                store_intermediates: bool = False, vip_noise: float = 0.0,
                rng: np.random.Generator | None = None) -> np.ndarray:
-    """Association probabilities by the paper's fast algorithm (Secs. III.B-D, Fig. 4).
+    """Association probabilities by the paper's fast algorithm (Sections III.B-D, Figure
+    4).
 
     For target ``t``, columns 1 and ``t`` of the MVM are interchanged; the vector of
     the last target (``T``, Sec. III.B: ``f[w] = f_0 + sum_{j in w} f_j`` over MU

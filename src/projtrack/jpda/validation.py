@@ -22,7 +22,8 @@ __all__ = ["gate_threshold", "mahalanobis_sq", "validation_matrix", "modified_va
 
 
 def gate_threshold(gate_prob: float, dim: int) -> float:
-    """Chi-square gate threshold ``d`` with ``P(chi2_dim <= d) = gate_prob`` (Sec. II.A).
+    r"""Chi-square gate threshold :math:`d` with :math:`P(\chi^2_{\mathrm{dim}} \le d) =
+    P_G` (Section II.A).
 
     A measurement ``z`` is validated for a target when its squared Mahalanobis
     distance ``(z - z_hat)^T S^{-1} (z - z_hat)`` to the predicted measurement
@@ -83,7 +84,7 @@ def _gauss_density(d2: np.ndarray, S: np.ndarray) -> np.ndarray:
 
 def validation_matrix(measurements: object, z_pred: object, S: object,
                       gate_prob: float = 0.99) -> np.ndarray:
-    """Binary validation matrix of Sec. II.A, shape ``(m, T + 1)``.
+    """Binary validation matrix of Section II.A, shape :math:`(m, T + 1)`.
 
     Column 0 (the false-measurement "target" ``t = 0``) is all ones; entry ``(j, t)``
     is 1 when measurement ``j`` lies inside the chi-square gate of target ``t``
@@ -98,7 +99,7 @@ def validation_matrix(measurements: object, z_pred: object, S: object,
 def modified_validation_matrix(measurements: object, z_pred: object, S: object,
                                p_detect: object, gate_prob: float = 0.99,
                                clutter_density: float = 1.0) -> np.ndarray:
-    r"""Modified validation matrix (MVM) exactly as the paper writes it, eqs. (3)-(4).
+    r"""Modified validation matrix (MVM) exactly as the paper writes it, equations (3)-(4).
 
     Row 0 holds :math:`1 - P_{D,t}` (eq. 3); row :math:`j` holds
     :math:`f_t(z_j) P_{D,t} / \lambda` (eq. 4 divided by the clutter density
@@ -213,6 +214,7 @@ def mvm_from_positions(measurements: object, positions: object, covariances: obj
 
 
 def mvm_to_validation(mvm: object) -> np.ndarray:
-    """Binary validation matrix ``(m, T + 1)`` of an MVM (Sec. III.A: zeros coincide)."""
+    """Binary validation matrix, shape :math:`(m, T + 1)`, of an MVM (Section III.A: zeros
+    coincide)."""
     w = _check_mvm(mvm)
     return np.hstack([np.ones((w.shape[0] - 1, 1), dtype=np.int8), (w[1:] > 0).astype(np.int8)])

@@ -13,7 +13,7 @@ __all__ = ["Coefficients", "PAPER_COEFFICIENTS", "PAPER_OFFSET"]
 
 @dataclass(frozen=True)
 class Coefficients:
-    """The positive weights ``A1``-``A4`` of eq. (8)."""
+    r"""The positive weights :math:`A_1, \dots, A_4` of equation (8)."""
 
     A1: float = 15.0
     A2: float = 15.0

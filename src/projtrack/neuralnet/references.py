@@ -18,7 +18,8 @@ __all__ = ["optimal_assignment", "nearest_neighbour_assignment", "greedy_assignm
 
 def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: int = 20_000_000
                        ) -> tuple[np.ndarray, float]:
-    """Exact minimum of the summed eq. (7) cost over one-to-one assignments (``N_T = N_M``).
+    """Exact minimum of the summed equation (7) cost over one-to-one assignments
+    (:math:`N_T = N_M`).
 
     Dynamic programming (Viterbi) over pairs of consecutive frame permutations: the cost
     ``sum_i sum_a D^a(pi_a(i), pi_{a+1}(i), pi_{a+2}(i))`` couples only three consecutive
@@ -93,7 +94,7 @@ def nearest_neighbour_assignment(positions: np.ndarray, n_targets: int | None = 
 
 
 def greedy_assignment(D: np.ndarray, n_targets: int | None = None) -> np.ndarray:
-    """Frame-by-frame linear assignment on the eq. (7) cost.
+    """Frame-by-frame linear assignment on the equation (7) cost.
 
     Frame 0 is the identity; frame 1 is matched by ``min_gamma D^0_{alpha beta gamma}``
     (the best continuation of each pair); every later frame ``a + 2`` is matched to the
@@ -116,7 +117,8 @@ def greedy_assignment(D: np.ndarray, n_targets: int | None = None) -> np.ndarray
 
 def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = None,
                                   n_targets: int | None = None, max_rounds: int = 100) -> tuple[np.ndarray, float]:
-    """Block-coordinate descent on the summed eq. (7) cost (a linear-assignment heuristic).
+    """Block-coordinate descent on the summed equation (7) cost (a linear-assignment
+    heuristic).
 
     With all frames but ``a`` fixed, the cost is linear in frame ``a``'s assignment
     (the three triples containing ``a``), so each frame is re-solved exactly by

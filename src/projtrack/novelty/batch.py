@@ -15,7 +15,8 @@ __all__ = ["vip_matrix", "correlation_matrix", "batch_kl"]
 
 
 def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
-    """The ``I x I`` matrix of vector inner products, Eq. (2) of Vermeulen & Casasent.
+    r"""The :math:`I \times I` matrix of vector inner products, Equation (2) of Vermeulen &
+    Casasent.
 
     ``v(l, m) = (1/I) (x_l - m)^T (x_m - m)`` with ``m`` the sample mean if ``center`` else 0.
 
@@ -38,7 +39,8 @@ def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
 
 def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
-    """The large ``P x P`` matrix ``(1/I) sum (x_i - m)(x_i - m)^T`` (only for small images).
+    r"""The large :math:`P \times P` matrix :math:`\frac{1}{I} \sum_i (x_i - m)(x_i - m)^T`
+    (only for small images).
 
     This is the matrix whose eigen-decomposition Eqs. (2)-(3) avoid; it serves as the oracle.
     """
@@ -54,7 +56,8 @@ def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
 def batch_kl(frames: Any, center: bool = False, n_components: int | None = None,
              rtol: float = 1e-12) -> KLBasis:
-    """Batch KL expansion through the small VIP matrix, Eqs. (2)-(3) of Vermeulen & Casasent.
+    """Batch KL expansion through the small VIP matrix, Equations (2)-(3) of Vermeulen &
+    Casasent.
 
     The eigenvectors ``theta_k`` and eigenvalues ``gamma_k`` of the VIP matrix ``V`` (Eq. (2))
     give the eigenimages ``Phi_k = sum_l theta_k^l x_l / sqrt(I gamma_k)`` (Eq. (3), normalized

@@ -21,14 +21,15 @@ class EigenvalueDroppedWarning(RuntimeWarning):
 
 
 class KLBasis(NamedTuple):
-    """Eigenvalues (descending) and unit-norm eigenimages (``(K, *frame_shape)``)."""
+    """Eigenvalues (descending) and unit-norm eigenimages, shape ``(K, *frame_shape)``."""
 
     eigenvalues: np.ndarray
     eigenimages: np.ndarray
 
 
 class NoveltyResult(NamedTuple):
-    """What :meth:`NoveltyFilter.partial_fit` returns: ``n_i`` (Eq. (7)) and Eq. (8)."""
+    """What :meth:`NoveltyFilter.partial_fit` returns: the novelty :math:`n_i` (Equation
+    (7)) and the decision of Equation (8)."""
 
     novelty: float
     novel: bool
@@ -36,7 +37,7 @@ class NoveltyResult(NamedTuple):
 
 @dataclass(frozen=True)
 class FrameRecord:
-    """One frame of :func:`process_sequence` (what the panels of Figs. 2-3 show).
+    """One frame of :func:`process_sequence` (what the panels of Figures 2-3 show).
 
     Attributes
     ----------
