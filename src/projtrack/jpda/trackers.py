@@ -162,24 +162,30 @@ class JPDATracker:
 
     Examples
     --------
-    Two targets crossing at the origin, a constant-velocity model, one scan with a
-    measurement near each target and one clutter point:
+    Two targets crossing at the origin, a constant-velocity model (state
+    :math:`(x, v_x, y, v_y)`), ten scans of noisy measurements with two clutter points
+    each:
 
     >>> import numpy as np
     >>> from projtrack.jpda import JPDATracker
     >>> F = np.array([[1., 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1], [0, 0, 0, 1]])
-    >>> H = np.array([[1., 0, 0, 0], [0, 0, 1, 0]])       # state (x, vx, y, vy)
-    >>> x0 = [[-5., 1, -5, 1], [-5., 1, 5, -1]]
-    >>> trk = JPDATracker(x0, np.eye(4), F, 0.01 * np.eye(4), H, 0.1 * np.eye(2),
+    >>> H = np.array([[1., 0, 0, 0], [0, 0, 1, 0]])
+    >>> truth = np.array([[-5., 1, -5, 1], [-5., 1, 5, -1]])
+    >>> trk = JPDATracker(truth, np.eye(4), F, 0.01 * np.eye(4), H, 0.1 * np.eye(2),
     ...                   p_detect=0.9, clutter_density=1e-3)
-    >>> x = trk.step([[-4.1, -3.9], [-3.9, 4.1], [10., 10.]])
-    >>> x.shape, trk.covariances.shape
-    ((2, 4), (2, 4, 4))
-    >>> np.round(x[:, [0, 2]], 1)
-    array([[-4.1, -3.9],
-           [-3.9,  4.1]])
-    >>> np.round(trk.last_beta_[:, 0], 3)   # target 0: almost surely measurement 1
-    array([0.002, 0.998, 0.   , 0.   ])
+    >>> rng = np.random.default_rng(1)
+    >>> for k in range(10):
+    ...     truth = truth @ F.T
+    ...     z = truth[:, [0, 2]] + rng.normal(0, 0.3, (2, 2))     # one per target
+    ...     z = np.vstack([z, rng.uniform(-8, 8, (2, 2))])        # and clutter
+    ...     x = trk.step(z)
+    >>> np.round(x[:, [0, 2]], 1)            # the targets end at (5, 5) and (5, -5)
+    array([[ 4.8,  5.1],
+           [ 5.1, -5. ]])
+    >>> trk.covariances.shape, np.round(np.sqrt(trk.covariances[:, 0, 0]), 2)
+    ((2, 4, 4), array([0.25, 0.24]))
+    >>> trk.last_beta_.shape                 # rows: no measurement, then the 4 measurements
+    (5, 2)
     """
 
     def __init__(self, x0, P0, F, Q, H, R, p_detect: float = 0.9,
