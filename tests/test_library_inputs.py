@@ -316,3 +316,19 @@ def test_indefinite_data_warning_can_be_silenced_for_studies():
 def test_flags_must_be_bools_everywhere(call):
     with pytest.raises(TypeError, match="must be a bool"):
         call()
+
+
+@pytest.mark.parametrize("kw,err,msg", [
+    (dict(n_regions="8"), TypeError, "n_regions must be an int"),
+    (dict(n_prototypes=0), ValueError, "n_prototypes must be an int >= 1"),
+    (dict(dim=1.5), TypeError, "dim must be an int"),
+    (dict(max_mse=-1.0), ValueError, "max_mse must be > 0"),
+    (dict(alpha=0.0), ValueError, "alpha must be > 0"),
+    (dict(neighbor_radius=np.nan), ValueError, "neighbor_radius"),
+    (dict(rng=3), TypeError, "rng must be a numpy.random.Generator"),
+])
+def test_dma_constructor_checks_at_the_door(kw, err, msg):
+    from projtrack import dma
+
+    with pytest.raises(err, match=msg):
+        dma.DMA(**kw)
