@@ -34,6 +34,15 @@ def correlate1d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
     ``c[m] = sum_n f[n] g[n - m + len(g) - 1]``, length ``len(f) + len(g) - 1``; the
     zero-lag term is at ``m = len(g) - 1`` (the convention of :func:`scipy.signal.correlate`).
+
+    Parameters
+    ----------
+    f, g : array_like, 1-D
+        The signal and the reference, finite and non-empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(f) + len(g) - 1,)
     """
     f = as_signal(f, "f")
     g = as_signal(g, "g")
@@ -47,6 +56,17 @@ def correlate2d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
     Returns the signed (not intensity-detected) plane of shape
     ``(Hf + Hg - 1, Wf + Wg - 1)``, ``c[p, q] = sum f[i, j] g[i - p + Hg - 1, j - q + Wg - 1]``.
     The paper stresses (Sec. II.B) that Eq. (3) needs this bipolar correlation.
+
+    Parameters
+    ----------
+    f : array_like, 2-D
+        The input image.
+    g : array_like, 2-D
+        The reference image.
+
+    Returns
+    -------
+    numpy.ndarray, shape (Hf + Hg - 1, Wf + Wg - 1)
     """
     f = as_image(f, "f")
     g = as_image(g, "g")

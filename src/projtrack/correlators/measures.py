@@ -115,7 +115,23 @@ def snr_db(ratio: float, *, convention: str = "amplitude") -> float:
 
 def peak_stats(plane: np.ndarray, *, window: int = 11, exclude: int | None = 32) -> dict[str, object]:
     """Peak value and location, PSR (Equation 5b) and, if ``exclude`` is given, SNR
-    (Equation 5a)."""
+    (Equation 5a).
+
+    Parameters
+    ----------
+    plane : array_like, 2-D
+        A correlation plane.
+    window : int, keyword-only, default 11
+        Window of the PSR, as :func:`psr`.
+    exclude : int or None, keyword-only, default 32
+        Region excluded around the peak for the SNR, as :func:`snr`; ``None`` skips the SNR.
+
+    Returns
+    -------
+    dict
+        ``peak`` (float), ``location`` (row, column), ``psr`` and, unless ``exclude`` is
+        None, ``snr``.
+    """
     arr = as_plane(plane)
     loc = np.unravel_index(int(np.argmax(arr)), arr.shape)
     out: dict[str, object] = {"peak": float(arr[loc]), "location": tuple(int(v) for v in loc),

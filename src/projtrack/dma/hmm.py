@@ -302,6 +302,15 @@ def forward_filter(log_start: object, log_trans: object, log_emission: object) -
     estimate of the state variable is required"), in log space. Arguments as in
     :func:`viterbi`.
 
+    Parameters
+    ----------
+    log_start : array_like, shape (S,)
+        Log-probabilities of the initial state.
+    log_trans : array_like or scipy.sparse matrix, shape (S, S)
+        Log transition probabilities (see :func:`viterbi` for the sparse convention).
+    log_emission : array_like, shape (N, S)
+        :math:`\log p(y(t) \mid \text{state})` for every time and state.
+
     Returns
     -------
     numpy.ndarray, shape (N, S)
@@ -317,6 +326,15 @@ def forward_backward(log_start: object, log_trans: object, log_emission: object)
 
     The forward-backward algorithm in log space (no underflow on long sequences).
     Arguments as in :func:`viterbi`.
+
+    Parameters
+    ----------
+    log_start : array_like, shape (S,)
+        Log-probabilities of the initial state.
+    log_trans : array_like or scipy.sparse matrix, shape (S, S)
+        Log transition probabilities (see :func:`viterbi` for the sparse convention).
+    log_emission : array_like, shape (N, S)
+        :math:`\log p(y(t) \mid \text{state})` for every time and state.
 
     Returns
     -------

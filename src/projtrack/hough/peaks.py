@@ -125,6 +125,22 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     ``N`` votes on a bias ``b`` the paper's ratio is ``N / (N/5 + b) < 5``, the
     ridge-free one ``N / b``.
 
+    Parameters
+    ----------
+    H : array_like, shape (len(rhos), len(thetas_deg))
+        Non-negative Hough plane.
+    rhos, thetas_deg : array_like
+        Its axes, strictly increasing.
+    ratio, bridge : float, keyword-only, default 3 and 1.5
+        The paper's thresholds on the ratio of a cell to its local average
+        (``bridge <= ratio``).
+    min_votes : float, keyword-only, default 3
+        Cells with fewer votes are never peak cells.
+    size : int, keyword-only, default 5
+        Odd side of the averaging window.
+    exclude_ridge : int or None, keyword-only
+        See above and :func:`local_average`.
+
     Returns
     -------
     list of HoughPeak

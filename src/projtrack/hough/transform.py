@@ -137,6 +137,20 @@ def hough_transform_image(image: object, drho: float = 2.0, dtheta_deg: float = 
 
     ``image[y, x]`` is the pixel at ``(x, y)``. See :func:`hough_transform`.
 
+    Parameters
+    ----------
+    image : array_like, 2-D
+        Binary image (0/1 or bool); its shape is the frame's ``(height, width)``.
+    drho, dtheta_deg : float, default 2 and 1
+        Resolutions of the plane (pixels, degrees).
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from (see :func:`hough_axes`).
+
+    Returns
+    -------
+    H, rhos, thetas_deg : numpy.ndarray
+        As :func:`hough_transform`.
+
     Raises
     ------
     ValueError

@@ -25,10 +25,20 @@ __all__ = ["clusters", "beta"]
 def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
     """Independent clusters of an MVM: connected components of its validation graph.
 
-    Returns a list of ``(measurements, targets)`` index arrays (measurements numbered
-    1..m as MVM rows). Targets with no validated measurement form singleton
-    clusters with no measurement; measurements validated by no target are dropped.
-    Joint events factor over clusters, so beta can be computed cluster by cluster.
+    Targets with no validated measurement form singleton clusters with no measurement;
+    measurements validated by no target are dropped. Joint events factor over clusters,
+    so beta can be computed cluster by cluster.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix (see :func:`beta`).
+
+    Returns
+    -------
+    list of (numpy.ndarray, numpy.ndarray)
+        One ``(measurements, targets)`` pair of index arrays per cluster, measurements
+        numbered 1..m as MVM rows.
     """
     w = _check_mvm(mvm)
     A = w[1:] > 0

@@ -25,9 +25,21 @@ def gate_threshold(gate_prob: float, dim: int) -> float:
     r"""Chi-square gate threshold :math:`d` with :math:`P(\chi^2_{\mathrm{dim}} \le d) =
     P_G` (Section II.A).
 
-    A measurement ``z`` is validated for a target when its squared Mahalanobis
-    distance ``(z - z_hat)^T S^{-1} (z - z_hat)`` to the predicted measurement
-    ``z_hat`` (innovation covariance ``S``) does not exceed ``d``.
+    A measurement :math:`z` is validated for a target when its squared Mahalanobis
+    distance :math:`(z - \hat z)^T S^{-1} (z - \hat z)` to the predicted measurement
+    :math:`\hat z` (innovation covariance :math:`S`) does not exceed :math:`d`.
+
+    Parameters
+    ----------
+    gate_prob : float
+        Gate probability :math:`P_G` in (0, 1).
+    dim : int
+        Dimension of the measurements (degrees of freedom of the chi-square law).
+
+    Returns
+    -------
+    float
+        The threshold :math:`d`.
     """
     g = as_probability(gate_prob, "gate_prob", low_open=True, high_open=True)
     dim = as_int(dim, "dim", minimum=1)
@@ -89,6 +101,21 @@ def validation_matrix(measurements: object, z_pred: object, S: object,
     Column 0 (the false-measurement "target" ``t = 0``) is all ones; entry ``(j, t)``
     is 1 when measurement ``j`` lies inside the chi-square gate of target ``t``
     (threshold :func:`gate_threshold`). Fig. 1 of the paper has rows 110, 111, 101.
+
+    Parameters
+    ----------
+    measurements : array_like, shape (m, d)
+        The scan's measurements.
+    z_pred : array_like, shape (T, d)
+        Predicted measurements of the targets.
+    S : array_like, shape (T, d, d)
+        Innovation covariances (symmetric positive definite).
+    gate_prob : float, default 0.99
+        Gate probability :math:`P_G` in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray of int8, shape (m, T + 1)
     """
     d2 = mahalanobis_sq(measurements, z_pred, S)
     dim = np.asarray(z_pred).shape[1]
