@@ -43,8 +43,21 @@ def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = No
     """Simulate equation (20), :math:`X_{k+1} = A_k^T X_k A_k + B_k`; returns ``(n_steps +
     1, n, n)``.
 
-    ``As`` (and ``Bs``) are one matrix (constant) or a sequence; ``n_steps`` defaults to
-    ``len(As)``. ``Bs=None`` means no drive.
+    Parameters
+    ----------
+    X0 : array_like, shape (n, n)
+        The initial ellipsoid (symmetric).
+    As : array_like, shape (n, n) or (K, n, n)
+        One transition matrix (constant dynamics) or a sequence of them.
+    Bs : array_like, shape (n, n) or (K, n, n), optional
+        The drive, symmetric; ``None`` (default) means no drive.
+    n_steps : int, optional
+        Number of steps; default ``len(As)`` for a sequence (required for one matrix).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_steps + 1, n, n)
+        The ellipsoids from :math:`X_0` to the last step.
     """
     X = check_symmetric(X0, "X0")
     n = X.shape[0]
@@ -137,6 +150,23 @@ def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obje
     ``method="ls"`` is ``x_0 = C^+ y`` (Sec. 6.2); ``"halfspace"``/``"sdp"`` impose
     ``lower <= X_0 <= upper``. Raises ``ValueError`` if the system is not observable
     (rank of eq. 25 below ``n(n+1)/2``) and ``method="ls"``.
+
+    Parameters
+    ----------
+    Ys : sequence of (m_k, m_k) arrays
+        Observed projections :math:`Y_0, \dots, Y_r`.
+    Cs : sequence of (n, m_k) arrays
+        Their orthonormal views.
+    As : array_like, shape (n, n) or (r, n, n)
+        Transition matrices of eq. (20), one per step between views (or one for all).
+    Bs : array_like, optional
+        Known drive of eq. (20), like ``As``; ``None`` means no drive.
+    lower, upper : array_like or float, optional
+        Interval bounds on :math:`X_0`, as in :func:`reconstruct`.
+    method : {"ls", "halfspace", "sdp"}
+        As in :func:`reconstruct`.
+    **options
+        Passed to the constrained solver.
 
     Returns
     -------

@@ -19,7 +19,15 @@ def svec(X: object) -> np.ndarray:
     9).
 
     ``(x)_l = <X, M_l>``: the upper triangle row by row, off-diagonal entries times sqrt(2).
-    Accepts a stack ``(..., n, n)`` of symmetric matrices.
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n) or (..., n, n)
+        A symmetric matrix, or a stack of them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n(n+1)/2,) or (..., n(n+1)/2)
     """
     A = as_array(X, "X")
     if A.ndim < 2 or A.shape[-1] != A.shape[-2]:
@@ -35,7 +43,14 @@ def svec(X: object) -> np.ndarray:
 def smat(x: object) -> np.ndarray:
     r"""Inverse of :func:`svec`: the symmetric matrix :math:`\sum_l x_l M_l` (equation 9).
 
-    Accepts a stack ``(..., n(n+1)/2)`` of coordinate vectors.
+    Parameters
+    ----------
+    x : array_like, shape (n(n+1)/2,) or (..., n(n+1)/2)
+        Coordinates, or a stack of them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (..., n, n)
     """
     v = as_array(x, "x")
     if v.ndim < 1:
@@ -63,6 +78,15 @@ def congruence_operator(A: object) -> np.ndarray:
     ``A`` is any real ``n x m`` matrix; the result is ``m(m+1)/2 x n(n+1)/2`` with entries
     ``<M_i^(m), A^T M_j^(n) A>`` (eq. 10). Used for ``C~`` (orthonormal ``C``) and for the
     dynamics ``A~`` of eq. (21).
+
+    Parameters
+    ----------
+    A : array_like, shape (n, m)
+        Any real matrix.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m(m+1)/2, n(n+1)/2)
     """
     M = as_array(A, "A")
     if M.ndim == 1:
@@ -78,7 +102,15 @@ def ctilde(C: object) -> np.ndarray:
     r"""The operator :math:`\tilde C` of equation (10): :math:`\operatorname{svec}(C^T X C)
     = \tilde C \operatorname{svec}(X)` (equation 11).
 
-    ``C`` must have orthonormal columns (an ``n x m`` projection, KVW Sec. 3).
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        Orthonormal columns (an ``n x m`` projection, KVW Sec. 3; a 1-D array is one
+        column).
+
+    Returns
+    -------
+    numpy.ndarray, shape (m(m+1)/2, n(n+1)/2)
     """
     return congruence_operator(check_orthonormal(C))
 

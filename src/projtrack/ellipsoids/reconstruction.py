@@ -175,6 +175,15 @@ def condition19(Cs: Sequence[object], Ws: Sequence[object], X: object) -> tuple[
     stacked operator is rank deficient (``sigma_min = 0``) ``lhs`` is ``inf`` and the
     condition does not hold.
 
+    Parameters
+    ----------
+    Cs : sequence of (n, m_i) arrays
+        The orthonormal views.
+    Ws : sequence of (m_i, m_i) arrays
+        The perturbations of the observations, one per view (symmetric).
+    X : array_like, shape (n, n)
+        The true ellipsoid (PSD).
+
     Returns
     -------
     (holds, lhs, rhs) : (bool, float, float)

@@ -27,6 +27,28 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     cvxpy problem and compiling it for the solver) and ``"solve_time"`` (the solver's own
     time as it reports it), so that timings can be given with and without cvxpy's set-up.
 
+    Needs the optional dependency cvxpy (``pip install "projtrack[sdp]"``).
+
+    Parameters
+    ----------
+    A : numpy.ndarray, shape (N, n(n+1)/2)
+        The stacked operator of eq. (14) (:func:`stacked_operator`).
+    y : numpy.ndarray, shape (N,)
+        The stacked coordinates of the observations.
+    lower, upper : numpy.ndarray, shape (n, n), or None
+        Interval bounds (``None``: no bound on that side), as returned by
+        :func:`interval_bounds`.
+    solver : str, default "CLARABEL"
+        A cvxpy solver name.
+    info : dict, optional
+        Receives the timings (above).
+    **solver_options
+        Passed to the solver.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+
     Raises
     ------
     RuntimeError
