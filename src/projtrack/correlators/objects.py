@@ -57,6 +57,19 @@ def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[flo
     minimum of :func:`backprojection_min`); the candidates that are local maxima (5 x 5)
     of the mean backprojection are reported.
 
+    Parameters
+    ----------
+    scene : array_like, 2-D
+        The image to search.
+    template : array_like, 2-D
+        The object to find (smaller than the scene).
+    angles : sequence of float
+        Projection angles in degrees (two or three are the paper's choice).
+    threshold : float, default 0.8
+        Fraction of a single object's correlation peak every backprojection must reach.
+    zero_mean_template : bool, keyword-only, default True
+        Remove the template's mean first (Sec. III.B).
+
     Returns
     -------
     dict

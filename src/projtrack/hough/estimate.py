@@ -96,6 +96,13 @@ def pulse_correlation(P: object, zero_value: float = PULSE_ZERO_VALUE) -> tuple[
     every width ``L`` and taking the largest peak is the maximum-sum window, found here
     by Kadane's algorithm.
 
+    Parameters
+    ----------
+    P : array_like, 1-D
+        A projection (non-negative counts), non-empty.
+    zero_value : float, default -10
+        Value given to empty samples.
+
     Returns
     -------
     I : float
@@ -348,7 +355,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
                    heading_hint: Sequence[float] = (0.0, 1.0), votes: float = float("nan"),
                    origin: str = "center", stop_fraction: float | None = None,
                    dx_schedule: str = "double") -> TrackEstimate:
-    """Confirm one HT line and estimate the target's state (Section III and VI).
+    r"""Confirm one HT line and estimate the target's state (Section III and VI).
 
     Projects the strip ``|y'| <= drho`` of the composite ``points``
     (:func:`strip_projection`), runs the ``dx'``/pulse procedure
@@ -358,6 +365,41 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` and
     ``dx_schedule`` are passed to :func:`project_and_correlate` (``None`` and
     ``"double"``: the paper's 75 % stopping rule and doubling of ``dx'``).
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        The composite's detections, ``(x, y)`` pixels.
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    rho, theta_deg : float
+        The line (e.g. a peak of :func:`find_peaks`).
+    frame_time : float, keyword-only
+        :math:`T`, seconds between frames (> 0).
+    n_frames : int, keyword-only
+        :math:`N_p`, frames in the composite (for the covariances).
+    drho : float, keyword-only, default 2
+        Half-width of the strip (the HT's resolution).
+    p_detect : float, keyword-only, default 1
+        :math:`P_D` of Eq. (7).
+    jitter_sigma : float, keyword-only, default 0.5
+        :math:`\sigma_j` (pixels) of the covariances.
+    dx_max : int, keyword-only, default 16
+        Largest projection resolution.
+    confirm_fraction : float, keyword-only, default 0.75
+        The 75 % rule.
+    heading_hint : (float, float), keyword-only, default (0, 1)
+        Prior direction of motion (orients :math:`x'`).
+    votes : float, keyword-only
+        The peak's votes, stored in the result.
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from, as in :func:`hough_transform`.
+    stop_fraction, dx_schedule : keyword-only
+        See :func:`project_and_correlate`.
+
+    Returns
+    -------
+    TrackEstimate
 
     Raises
     ------

@@ -255,6 +255,19 @@ def line_through(points: object, shape: tuple[int, int], *, origin: str = "cente
 
     ``theta_deg`` lies in [0, 180); ``rho`` is measured from the origin of
     :func:`hough_transform`. Used to compare a target's true track with the Hough plane.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        At least two distinct ``(x, y)`` points.
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    origin : {"center", "corner"}, keyword-only
+        As in :func:`hough_transform`.
+
+    Returns
+    -------
+    (rho, theta_deg) : (float, float)
     """
     shape = as_shape2(shape)
     pts = _check_points(points, shape)
