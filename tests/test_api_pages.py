@@ -117,3 +117,39 @@ def test_built_page_has_public_names_only_and_renders_maths(built_pages, topic):
     top = {i.split(".")[2] for i in ids if len(i.split(".")) >= 3}
     assert top == set(mod.__all__), sorted(top ^ set(mod.__all__))
     assert 'class="math' in html, "no maths rendered"
+
+
+def _section(doc: str, title: str) -> str | None:
+    m = re.search(title + r"\n-+\n(.*?)(\n\n[A-Z][A-Za-z ]+\n-+\n|\Z)", doc, re.S)
+    return m.group(1) if m else None
+
+
+def _public_callables():
+    import inspect
+
+    for topic in TOPICS:
+        mod = importlib.import_module(f"projtrack.{topic}")
+        for name in mod.__all__:
+            obj = getattr(mod, name)
+            if not callable(obj) or (inspect.isclass(obj) and issubclass(obj, Warning)):
+                continue
+            try:
+                sig = inspect.signature(obj)
+            except (TypeError, ValueError):
+                continue
+            params = [p.name for p in sig.parameters.values() if p.name != "self"]
+            if params:
+                yield f"projtrack.{topic}.{name}", inspect.getdoc(obj) or "", params
+
+
+@pytest.mark.parametrize("name,doc,params", list(_public_callables()), ids=lambda v: v if isinstance(v, str)
+                         and v.startswith("projtrack.") else "")
+def test_every_public_callable_documents_each_parameter(name, doc, params):
+    text = (_section(doc, "Parameters") or "") + (_section(doc, "Attributes") or "")
+    assert text, f"{name} has no Parameters section"
+    listed = set()
+    for line in text.splitlines():
+        if line and not line.startswith(" "):
+            listed |= {x.strip().lstrip("*") for x in line.split(" : ")[0].split(",")}
+    missing = [p for p in params if p not in listed]
+    assert not missing, f"{name} does not document {missing}"

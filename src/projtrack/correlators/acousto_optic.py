@@ -89,6 +89,15 @@ def time_integrating_correlator(test: np.ndarray, references: np.ndarray, *, bia
     value of either); an extra reference-free row measures the bias terms, which are
     subtracted to recover the bipolar correlations.
 
+    Parameters
+    ----------
+    test : array_like, 1-D
+        The test projection, length ``L``.
+    references : array_like, shape (N, M)
+        One reference projection per row.
+    bias : float or None, keyword-only
+        Intensity bias added to both signals; default the largest absolute value of either.
+
     Returns
     -------
     numpy.ndarray, shape (N, L + M - 1)

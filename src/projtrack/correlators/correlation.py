@@ -152,5 +152,20 @@ def circular_correlate(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 def integrated_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float) -> np.ndarray:
     r"""Projection at angle :math:`\theta` of the full 2-D bipolar correlation (Section
-    II.B)."""
+    II.B).
+
+    Parameters
+    ----------
+    f : array_like, 2-D
+        The input image.
+    g : array_like, 2-D
+        The reference image.
+    theta_deg : float
+        Projection angle in degrees.
+
+    Returns
+    -------
+    numpy.ndarray
+        The projection of :func:`correlate2d`'s plane, on the bins of :func:`project`.
+    """
     return project(correlate2d(f, g), theta_deg)

@@ -25,6 +25,21 @@ def backprojection_min(projections: Sequence[np.ndarray], r_axes: Sequence[np.nd
     only if every projection correlation is high on the line through it; with the
     horizontal and vertical projections alone, two objects that do not share a row or a
     column leave two "ghost" candidates, which a third projection removes (Sec. V).
+
+    Parameters
+    ----------
+    projections : sequence of 1-D arrays
+        One projection correlation per angle.
+    r_axes : sequence of 1-D arrays
+        Their ``r`` axes (pixels, increasing).
+    angles : sequence of float
+        The angles, degrees.
+    shape : (int, int)
+        Shape of the plane.
+
+    Returns
+    -------
+    numpy.ndarray, shape ``shape``
     """
     angles = as_angles(angles)
     if not (len(projections) == len(r_axes) == len(angles)):

@@ -40,7 +40,17 @@ _SNAP = 1e-9  # interpolation weights closer than this to 0 or 1 are snapped
 
 
 def is_lattice_angle(theta_deg: float) -> bool:
-    """True if ``theta_deg`` is a multiple of 45 degrees (exact pixel binning)."""
+    """True if ``theta_deg`` is a multiple of 45 degrees (exact pixel binning).
+
+    Parameters
+    ----------
+    theta_deg : float
+        An angle in degrees.
+
+    Returns
+    -------
+    bool
+    """
     t = as_angle(theta_deg)
     return abs(t / 45.0 - round(t / 45.0)) < 1e-9
 
@@ -173,7 +183,19 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
 
 def project_stack(images: np.ndarray, theta_deg: float) -> np.ndarray:
     """:func:`project` applied to every image of a stack ``(n, H, W)``; returns ``(n,
-    n_bins)``."""
+    n_bins)``.
+
+    Parameters
+    ----------
+    images : array_like, shape (n, H, W)
+        A stack of images of one size.
+    theta_deg : float
+        Projection angle in degrees.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n_bins)
+    """
     arr = as_stack(images, "images")
     mat, _ = _operator(arr.shape[1:], as_angle(theta_deg))
     return np.asarray((mat @ arr.reshape(arr.shape[0], -1).T).T)
@@ -185,6 +207,19 @@ def projection_spectrum(image: np.ndarray, theta_deg: float, rho: np.ndarray) ->
 
     ``P(rho) = sum_k p(r_k) exp(-2 pi i rho r_k)`` at the frequencies ``rho`` (cycles per
     pixel), with ``r_k`` from :func:`project`.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        The image.
+    theta_deg : float
+        Projection angle in degrees.
+    rho : array_like, 1-D
+        Spatial frequencies, cycles per pixel.
+
+    Returns
+    -------
+    numpy.ndarray of complex, shape (len(rho),)
     """
     p, r = project(image, theta_deg, return_r=True)
     rho = as_freqs(rho)
@@ -197,6 +232,19 @@ def fourier_slice(image: np.ndarray, theta_deg: float, rho: np.ndarray) -> np.nd
     ``F(rho cos(theta), rho sin(theta)) = sum f(x, y) exp(-2 pi i rho (x cos(theta) + y sin(theta)))``
     with the centred coordinates of the module conventions. By the central slice theorem
     it equals :func:`projection_spectrum` exactly for multiples of 45 degrees.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        The image.
+    theta_deg : float
+        Angle of the line through the origin of the frequency plane, degrees.
+    rho : array_like, 1-D
+        Spatial frequencies along the line, cycles per pixel.
+
+    Returns
+    -------
+    numpy.ndarray of complex, shape (len(rho),)
     """
     arr = as_image(image, "image")
     t = np.deg2rad(as_angle(theta_deg))

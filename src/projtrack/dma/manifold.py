@@ -166,6 +166,17 @@ def select_n_regions(X: object, candidates: Sequence[int], rng: np.random.Genera
     suitable method, e.g., minimum description length (MDL)". BIC has the same form as
     the two-part MDL code length of a Gaussian mixture.
 
+    Parameters
+    ----------
+    X : array_like, shape (N, n)
+        Training points.
+    candidates : sequence of int
+        Numbers of regions to try (each >= 1).
+    rng : numpy.random.Generator
+        Randomness of EM.
+    reg_covar : float, keyword-only, default 1e-6
+        Added to the covariance diagonals by EM.
+
     Returns
     -------
     best : int

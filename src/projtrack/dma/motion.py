@@ -98,7 +98,22 @@ def estimate_transitions(
 
 def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> np.ndarray:
     """Initial-state probabilities: state frequencies of the training sequences plus a
-    pseudo-count ``alpha`` per state (so that every state may start a trajectory)."""
+    pseudo-count ``alpha`` per state (so that every state may start a trajectory).
+
+    Parameters
+    ----------
+    sequences : sequence of array_like of int
+        Training state sequences (prototype indices).
+    n_states : int
+        Number of states.
+    alpha : float, keyword-only, default 1
+        Pseudo-count per state (> 0).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_states,)
+        Probabilities summing to 1.
+    """
     S = as_int(n_states, "n_states", minimum=1)
     seqs = _check_sequences(sequences, S)
     alpha = as_real(alpha, "alpha", 0, low_open=True)
@@ -108,7 +123,19 @@ def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> n
 
 def neighbor_graph(points: object, radius: float) -> sp.csr_array:
     """Sparse 0/1 pattern of prototype pairs closer than ``radius`` (self excluded),
-    for smoothing in :func:`estimate_transitions`."""
+    for smoothing in :func:`estimate_transitions`.
+
+    Parameters
+    ----------
+    points : array_like, shape (K, n)
+        The prototypes.
+    radius : float
+        Distance below which two prototypes are neighbours (> 0).
+
+    Returns
+    -------
+    scipy.sparse.csr_array, shape (K, K)
+    """
     from scipy.spatial import cKDTree
 
     P = as_array(points, "points", ndim=2)

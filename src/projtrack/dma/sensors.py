@@ -99,6 +99,17 @@ class RangeCosineSensor(SensorModel):
 
     ``d_t`` is the distance from the prototype to the receiver (Example 2:
     ``omega = 0.02`` rad/m, ``noise_var = 0.05``).
+
+    Parameters
+    ----------
+    points : array_like, shape (K, n)
+        The prototypes (states).
+    receiver : array_like, shape (n,)
+        Position of the receiver.
+    omega : float
+        Angular frequency of the range response, rad per unit of distance.
+    noise_var : float
+        Variance of the measurement noise (> 0).
     """
 
     def __init__(self, points: object, receiver: object, omega: float, noise_var: float):

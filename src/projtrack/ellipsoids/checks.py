@@ -50,6 +50,21 @@ def check_orthonormal(C: object, name: str = "C", n: int | None = None, tol: flo
 
     A 1-D array is taken as a single column (an ``n x 1`` projection, KVW Sec. 3).
 
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        The matrix to check.
+    name : str, default "C"
+        Name used in error messages.
+    n : int, optional
+        Required number of rows.
+    tol : float, default 1e-8
+        Largest entry allowed in ``C^T C - I``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m)
+
     Raises
     ------
     TypeError, ValueError

@@ -30,6 +30,19 @@ def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarr
     matrix; ``X -> A^T X A`` rotates the ellipse by ``psi``, magnifies it by ``tau``,
     stretches axis 1 by ``alpha`` and axis 2 by ``1/alpha``, then rotates by ``phi``
     (eq. 22 applied through eq. 3).
+
+    Parameters
+    ----------
+    tau : float
+        Magnification (> 0).
+    alpha : float
+        Stretch of axis 1 (axis 2 by ``1/alpha``), > 0.
+    psi, phi : float
+        Rotation angles, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 2)
     """
     # any bad value is a ValueError here, a wrong kind included
     tau, alpha, psi, phi = (only_value_errors(as_real, v, k)
@@ -77,7 +90,20 @@ def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = No
 
 def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None) -> tuple[list[np.ndarray], list[np.ndarray]]:
     r"""The vector form (21): :math:`\tilde A_k` (the matrix of :math:`X \mapsto A_k^T X
-    A_k`) and :math:`b_k = \operatorname{svec}(B_k)`."""
+    A_k`) and :math:`b_k = \operatorname{svec}(B_k)`.
+
+    Parameters
+    ----------
+    As : sequence of (n, n) arrays
+        Transition matrices of eq. (20).
+    Bs : sequence of (n, n) arrays, optional
+        Drive of eq. (20); None means no drive.
+
+    Returns
+    -------
+    (A_tilde, b) : (list of numpy.ndarray, list of numpy.ndarray)
+        The ``n(n+1)/2`` square matrices and the drive vectors.
+    """
     At = [congruence_operator(A) for A in As]
     if Bs is None:
         bt = [np.zeros(At[0].shape[0]) for _ in At]
@@ -92,6 +118,17 @@ def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarr
 
     ``Cs`` has ``r + 1`` projections (times ``0..r``); ``As`` is one ``n x n`` matrix (a
     constant dynamics) or a sequence of exactly ``r`` matrices ``A_0..A_{r-1}``.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_k) arrays
+        The views at times ``0..r``.
+    As : array_like, shape (n, n) or (r, n, n)
+        The transition matrices.
+
+    Returns
+    -------
+    numpy.ndarray, shape (sum of m_k(m_k+1)/2, n(n+1)/2)
 
     Raises
     ------
@@ -117,6 +154,20 @@ def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], 
 
     ``As`` and ``Bs`` are one matrix each (constant) or sequences of exactly
     ``len(Cs) - 1`` matrices (ValueError otherwise).
+
+    Parameters
+    ----------
+    Ys : sequence of (m_k, m_k) arrays
+        The observed projections.
+    Cs : sequence of (n, m_k) arrays
+        Their views.
+    As, Bs : array_like
+        Transition matrices and drive of eq. (20) (``Bs=None``: no drive).
+
+    Returns
+    -------
+    numpy.ndarray
+        The stacked corrected observations.
     """
     Cl = _check_Cs(Cs)
     Yl = _check_Ys(Ys, Cl)
@@ -136,7 +187,19 @@ def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], 
 
 def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
     """True when the observability matrix of equation (25) has full column rank
-    :math:`n(n+1)/2`."""
+    :math:`n(n+1)/2`.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_k) arrays
+        The views at times ``0..r``.
+    As : array_like, shape (n, n) or (r, n, n)
+        The transition matrices.
+
+    Returns
+    -------
+    bool
+    """
     O = observability_matrix(Cs, As)
     return _rank(O) == O.shape[1]
 

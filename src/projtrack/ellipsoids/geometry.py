@@ -174,6 +174,21 @@ def conic_points(X: object, n_points: int = 200, extent: float = 3.0) -> list[np
     gives the two branches of a hyperbola, which is how KVW draw such estimates (Fig. 9).
     ``extent`` limits the hyperbola parameter so the branches reach about that distance.
     Returns a list of ``(k, 2)`` arrays.
+
+    Parameters
+    ----------
+    X : array_like, shape (2, 2)
+        An invertible symmetric matrix.
+    n_points : int, default 200
+        Points per curve.
+    extent : float, default 3
+        Reach of the hyperbola's branches (indefinite ``X``).
+
+    Returns
+    -------
+    list of numpy.ndarray, shape (k, 2)
+        One curve for an ellipse, two branches for a hyperbola, none for a negative
+        definite ``X``.
     """
     Xm = check_symmetric(X, n=2)
     lam, V = np.linalg.eigh(Xm)

@@ -66,7 +66,18 @@ def smat(x: object) -> np.ndarray:
 
 def symmetric_basis(n: int) -> np.ndarray:
     r"""The standard symmetric basis :math:`\{M_l^{(n)}\}` of equation (9), shape
-    ``(n(n+1)/2, n, n)``."""
+    ``(n(n+1)/2, n, n)``.
+
+    Parameters
+    ----------
+    n : int
+        Size of the matrices (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n(n+1)/2, n, n)
+        The basis matrices ``M_l`` in the order of :func:`svec`.
+    """
     n = _as_size(n, "n", 1)
     return smat(np.eye(_dim(int(n))))
 
@@ -124,6 +135,15 @@ def svec_basis_matrix(n: int) -> np.ndarray:
     Magnus-Neudecker duplication matrix ``D_n`` (entries 0 and 1, ``vec(X) = D_n vech(X)``):
     ``P = D_n diag(w)^{-1}`` with ``w = 1`` on the diagonal entries and ``sqrt(2)`` off it.
 
+    Parameters
+    ----------
+    n : int
+        Size of the matrices (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n*n, n(n+1)/2)
+
     Raises
     ------
     ValueError
@@ -136,14 +156,35 @@ def svec_basis_matrix(n: int) -> np.ndarray:
 
 def kron_operator(C: object) -> np.ndarray:
     r"""The Kronecker form of equation (6): :math:`\operatorname{vec}(C^T X C) = (C^T
-    \otimes C^T) \operatorname{vec}(X)`."""
+    \otimes C^T) \operatorname{vec}(X)`.
+
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        Orthonormal columns.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m*m, n*n)
+        The matrix ``C^T kron C^T``.
+    """
     Cm = check_orthonormal(C)
     return np.kron(Cm.T, Cm.T)
 
 
 def stacked_operator(Cs: Sequence[object]) -> np.ndarray:
     r"""The stacked operator :math:`\mathcal{C}` of equation (14): the :math:`\tilde C_i` of
-    equation (10) one above the other."""
+    equation (10) one above the other.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_i) arrays
+        The orthonormal views (1-D arrays are single columns).
+
+    Returns
+    -------
+    numpy.ndarray, shape (sum of m_i(m_i+1)/2, n(n+1)/2)
+    """
     return np.vstack([congruence_operator(C) for C in _check_Cs(Cs)])
 
 

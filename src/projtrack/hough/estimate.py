@@ -55,6 +55,21 @@ def strip_projection(points: object, shape: tuple[int, int], rho: float, theta_d
     along ``heading_hint`` (the prior direction of motion: boost-phase targets climb,
     so the default is +y). The strip points are binned at unit resolution in ``x'``.
 
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        ``(x, y)`` detections (may be empty).
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    rho, theta_deg : float
+        The line.
+    half_width : float, keyword-only, default 2
+        Half-width of the strip (> 0).
+    heading_hint : (float, float), keyword-only, default (0, 1)
+        Prior direction of motion.
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from, as in :func:`hough_transform`.
+
     Returns
     -------
     counts : ndarray of int

@@ -362,6 +362,19 @@ def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0
     Two lines share a window when ``|rho_1 - rho_2| <= (size // 2) drho`` and their angles
     differ by at most ``(size // 2) dtheta`` (taking ``(rho, theta + 180) = (-rho, theta)``
     into account): the second line then raises the local average of the first's peak.
+
+    Parameters
+    ----------
+    lines : sequence of (rho, theta_deg)
+        The lines.
+    drho, dtheta_deg : float, keyword-only, default 2 and 1
+        Resolutions of the Hough plane.
+    size : int, keyword-only, default 5
+        Side of the averaging window.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (len(lines),)
     """
     k = size // 2
     L = np.asarray(lines, dtype=float).reshape(-1, 2)

@@ -124,5 +124,16 @@ def feasibility_matrices(mvm: object, order: str = "lexicographic") -> list[np.n
     r"""The feasibility matrices :math:`\Omega_i` of an MVM's validation matrix (Figure 2).
 
     ``order`` is passed to :func:`iter_feasibility_matrices`.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix (its zeros give the validation matrix).
+    order : {"lexicographic", "colexicographic"}
+        Order of the events, passed to :func:`iter_feasibility_matrices`.
+
+    Returns
+    -------
+    list of numpy.ndarray of int8, shape (m, T + 1)
     """
     return list(iter_feasibility_matrices(mvm_to_validation(mvm), order=order))

@@ -72,6 +72,26 @@ def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
     ``detector``; detectors integrate over the time slots. With ``noise_std > 0``
     each detector reading gets additive Gaussian noise (analog accuracy), drawn from
     ``rng``.
+
+    Parameters
+    ----------
+    vec : numpy.ndarray
+        The old vector (laser-diode amplitudes at P1).
+    column : numpy.ndarray
+        The MVM column ``(p_0, ..., p_m)`` written on AO1.
+    schedule : numpy.ndarray of int, shape (k, 4)
+        From :func:`optical_vip_schedule`.
+    n_out : int
+        Number of detectors (elements of the new vector).
+    noise_std : float, keyword-only, default 0
+        Standard deviation of the additive detector noise.
+    rng : numpy.random.Generator, keyword-only
+        Needed when ``noise_std > 0``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_out,)
+        The detector readings: the new vector.
     """
     vec = as_array(vec, "vec", ndim=1)
     column = as_array(column, "column", ndim=1)

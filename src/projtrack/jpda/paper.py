@@ -37,6 +37,18 @@ def mu_words(m: int, min_count: int = 0) -> np.ndarray:
     ``j_m ... j_1`` as in Table II). Words are grouped by decreasing bit count and,
     within a group, ordered as in Table II (the set not using the highest
     measurements first), and only bit counts ``>= min_count`` are kept.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements (>= 0).
+    min_count : int, default 0
+        Smallest bit count kept.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        The words, in the paper's order.
     """
     m = as_int(m, "m", minimum=0, maximum=30)  # MU words are int64 bit words
     min_count = as_int(min_count, "min_count", minimum=0)
@@ -69,6 +81,17 @@ def vector_size(m: int, T: int) -> int:
     The lower limit ``max(0, .)`` reproduces Table III; the text prints
     ``max(1, .)`` (see :func:`vector_size_text_formula`), which drops the empty word
     and disagrees with the table whenever ``m < T``.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+
+    Returns
+    -------
+    int
     """
     m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(0, m - T + 1), m + 1))
@@ -76,7 +99,19 @@ def vector_size(m: int, T: int) -> int:
 
 def vector_size_text_formula(m: int, T: int) -> int:
     r"""The vector length as printed in Section III: :math:`\sum_{j=\max(1, m-T+1)}^{m}
-    \binom{m}{j}`."""
+    \binom{m}{j}`.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+
+    Returns
+    -------
+    int
+    """
     m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(1, m - T + 1), m + 1))
 
@@ -91,6 +126,23 @@ def stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
     single 1 selects the old element and the MVM entry ``p_j`` that multiplies it
     (a vector inner product per element, Fig. 4). ``vec`` is indexed like
     ``prev_words``; ``column`` is the MVM column ``(p_0, p_1, ..., p_m)``.
+
+    Parameters
+    ----------
+    vec : numpy.ndarray
+        The old vector, indexed like ``prev_words``.
+    words : numpy.ndarray of int
+        MU words of the new vector.
+    prev_words : numpy.ndarray of int
+        MU words of the old vector.
+    column : numpy.ndarray
+        The MVM column ``(p_0, p_1, ..., p_m)`` of the target.
+    ops : OpCount, optional
+        Operation counter.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(words),)
 
     Raises
     ------
@@ -164,6 +216,20 @@ def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tu
     ``m = 4`` the word ``1111`` gives ``e0(f1111) + e4(f0111) + e3(f1011) + ...``:
     the old-vector elements are named by their own MU words, as the XOR rule of
     Sec. III.C selects them.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+    new, old : str, default "e" and "f"
+        Names of the new and old vectors in the expressions.
+
+    Returns
+    -------
+    list of (int, str, str)
+        ``(word, binary, expression)`` rows.
     """
     m = as_int(m, "m", minimum=0)
     T = as_int(T, "T", minimum=0)

@@ -242,6 +242,16 @@ def mvm_from_positions(measurements: object, positions: object, covariances: obj
 
 def mvm_to_validation(mvm: object) -> np.ndarray:
     """Binary validation matrix, shape :math:`(m, T + 1)`, of an MVM (Section III.A: zeros
-    coincide)."""
+    coincide).
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix.
+
+    Returns
+    -------
+    numpy.ndarray of int8, shape (m, T + 1)
+    """
     w = _check_mvm(mvm)
     return np.hstack([np.ones((w.shape[0] - 1, 1), dtype=np.int8), (w[1:] > 0).astype(np.int8)])

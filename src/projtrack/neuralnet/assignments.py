@@ -40,7 +40,19 @@ def states_to_assignment(X: np.ndarray) -> np.ndarray | None:
 
 def assignment_to_states(assignment: np.ndarray, n_measurements: int) -> np.ndarray:
     """Binary states, shape :math:`(N_T, N_M, N_P)`, of an assignment, shape :math:`(N_T,
-    N_P)`."""
+    N_P)`.
+
+    Parameters
+    ----------
+    assignment : array_like of int, shape (N_T, N_P)
+        ``assignment[i, a]``: the measurement of target ``i`` in frame ``a``.
+    n_measurements : int
+        ``N_M``.
+
+    Returns
+    -------
+    numpy.ndarray of int8, shape (N_T, N_M, N_P)
+    """
     A = np.asarray(assignment)
     if A.ndim != 2 or not np.issubdtype(A.dtype, np.integer):
         raise ValueError(f"assignment must be an int array (N_T, N_P), got {A.dtype} {A.shape}")

@@ -59,6 +59,17 @@ def initial_states(rng: np.random.Generator, n_runs: int, n_targets: int, n_meas
     ``1 + u`` with ``u`` uniform in ``[-perturbation, perturbation]`` (Hopfield & Tank used
     10%). The first sweep thresholds these analog values to binary ones.
 
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Randomness of the perturbation.
+    n_runs : int
+        Number of starts (nets run side by side).
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
+    perturbation : float, default 0.1
+        Half-width of the relative uniform perturbation.
+
     Returns
     -------
     ndarray, shape (n_runs, N_T, N_M, N_P)

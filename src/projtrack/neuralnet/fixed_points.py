@@ -59,6 +59,15 @@ def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None
     ``max S < limit`` with ``limit = (offset + {0, 2 A3, A3}) / A4``, returned here (in the
     unit of D; ``-inf`` when no assignment can be a fixed point).
 
+    Parameters
+    ----------
+    coefficients : Coefficients or sequence of 4 floats, optional
+        The weights of eq. (8); default the paper's.
+    offset : float, keyword-only, default 0.035
+        The neurons' threshold.
+    self_coupling, exact_energy : bool, keyword-only
+        The reading of eq. (4), as in :func:`update_inputs`.
+
     Raises
     ------
     ValueError

@@ -29,6 +29,11 @@ def connection_matrices(n_targets: int, n_measurements: int, n_frames: int
     ``T2_kl = delta_ij delta_ab (1 - delta_{alpha beta})`` and ``T3_kl = delta_ab``, so that
     eq. (9) is ``2 A1 T1 x + 2 A2 T2 x + 2 A3 (T3 x - N_T) + y4``.
 
+    Parameters
+    ----------
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
+
     Returns
     -------
     T1, T2, T3 : ndarray of int8, shape (K, K), ``K = N_T N_M N_P``
@@ -222,6 +227,11 @@ def gradient_linear_algebra(x: np.ndarray, D: np.ndarray, n_targets: int,
 
 def slm_sizes(n_targets: int, n_measurements: int, n_frames: int) -> dict[str, int]:
     """Pixel counts of the optical architecture of Section V.
+
+    Parameters
+    ----------
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
 
     Returns
     -------

@@ -26,6 +26,15 @@ def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: 
     frames. Frame 0 is labelled by the identity (targets are interchangeable). Work is
     ``N_P (N_T!)^3``: fine up to ``N_T = 5``.
 
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7) (:func:`distance_tensor`).
+    n_targets : int, optional
+        ``N_T``; default ``N_M`` (it must equal ``N_M``).
+    max_states : int, default 20000000
+        Refuse problems whose dynamic programme would exceed this many states.
+
     Returns
     -------
     assignment : ndarray of int, shape (N_T, N_P)
@@ -70,6 +79,9 @@ def nearest_neighbour_assignment(positions: np.ndarray, n_targets: int | None = 
     Parameters
     ----------
     positions : array_like, shape (N_P, N_M, dim), ``N_M = N_T``
+        The measurements of every frame.
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
 
     Returns
     -------
@@ -101,6 +113,13 @@ def greedy_assignment(D: np.ndarray, n_targets: int | None = None) -> np.ndarray
     tracks fixed so far by ``D^a(track(a), track(a+1), gamma)``, each by
     :func:`scipy.optimize.linear_sum_assignment`.
 
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7).
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
+
     Returns
     -------
     ndarray of int, shape (N_T, N_P)
@@ -124,6 +143,17 @@ def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = No
     (the three triples containing ``a``), so each frame is re-solved exactly by
     :func:`scipy.optimize.linear_sum_assignment`; rounds over all frames repeat until the
     cost stops decreasing. Starts from :func:`greedy_assignment` unless ``initial`` is given.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7).
+    initial : array_like of int, shape (N_T, N_P), optional
+        Starting assignment; default :func:`greedy_assignment`'s.
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
+    max_rounds : int, default 100
+        Largest number of rounds over all frames.
 
     Returns
     -------

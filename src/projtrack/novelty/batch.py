@@ -43,6 +43,17 @@ def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
     (only for small images).
 
     This is the matrix whose eigen-decomposition Eqs. (2)-(3) avoid; it serves as the oracle.
+
+    Parameters
+    ----------
+    frames : array_like, shape (I, ...)
+        The frames (at most 4096 pixels each).
+    center : bool, default False
+        Subtract the mean frame :math:`m` first (otherwise :math:`m = 0`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, P)
     """
     center = as_bool(center, "center")
     x = as_frames(frames).reshape(len(frames), -1)

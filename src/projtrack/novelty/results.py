@@ -21,7 +21,15 @@ class EigenvalueDroppedWarning(RuntimeWarning):
 
 
 class KLBasis(NamedTuple):
-    """Eigenvalues (descending) and unit-norm eigenimages, shape ``(K, *frame_shape)``."""
+    """Eigenvalues (descending) and unit-norm eigenimages, shape ``(K, *frame_shape)``.
+
+    Attributes
+    ----------
+    eigenvalues : numpy.ndarray, shape (K,)
+        Descending.
+    eigenimages : numpy.ndarray, shape (K, ...) shaped like the frames
+        Unit norm, orthonormal when flattened.
+    """
 
     eigenvalues: np.ndarray
     eigenimages: np.ndarray
@@ -29,7 +37,16 @@ class KLBasis(NamedTuple):
 
 class NoveltyResult(NamedTuple):
     """What :meth:`NoveltyFilter.partial_fit` returns: the novelty :math:`n_i` (Equation
-    (7)) and the decision of Equation (8)."""
+    (7)) and the decision of Equation (8).
+
+    Attributes
+    ----------
+    novelty : float
+        :math:`n_i`, the fraction of the frame's energy the eigenimages do not explain
+        (1 for the first frame).
+    novel : bool
+        Whether :math:`n_i` exceeds the novelty threshold (the frame then updated the model).
+    """
 
     novelty: float
     novel: bool
