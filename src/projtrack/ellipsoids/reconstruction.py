@@ -162,9 +162,10 @@ def reconstruct(Ys: Sequence[object], Cs: Sequence[object], lower: object = None
 
 
 def condition19(Cs: Sequence[object], Ws: Sequence[object], X: object) -> tuple[bool, float, float]:
-    """Sufficient condition (19) of KVW for the LS estimate to be PSD.
+    r"""Sufficient condition (19) of KVW for the LS estimate to be PSD.
 
-    ``sigma_min(C)^{-1} sqrt(sum ||W_i||_F^2) <= lambda_min(X)`` with ``C`` the stacked
+    :math:`\sigma_{\min}(\mathcal{C})^{-1} \sqrt{\sum_i \|W_i\|_F^2} \le \lambda_{\min}(X)`
+    with :math:`\mathcal{C}` the stacked
     operator of eq. (14) and ``W_i`` the perturbations of the observations (eq. 16).
 
     ``X`` is the true ellipsoid, so it must be PSD. For a *singular* ``X`` (a degenerate

@@ -195,7 +195,8 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
     pulses of every width (:func:`pulse_correlation`); the procedure stops at the
     first ``dx'`` whose peak ``I`` is at least ``confirm_fraction`` of the number of
     ones at ``dx' = 1``. The position is Eq. (5),
-    ``x' = x0 + dx' [j + (P_j - 0.5) L / I]``, with ``j`` the leading sample.
+    :math:`x' = x_0 + \Delta x' \,[\,j + (P_j - 0.5) L / I\,]`, with :math:`j` the
+    leading sample.
 
     Parameters
     ----------
@@ -272,7 +273,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
 
 def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: float = 2.0,
                      jitter_sigma: float = 0.5, total_time: float | None = None) -> dict[str, float]:
-    """Variances of the track estimates, Equations (8), (9), (12), (13) of Section VI.
+    r"""Variances of the track estimates, Equations (8), (9), (12), (13) of Section VI.
 
     Parameters
     ----------
@@ -292,11 +293,12 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
     Returns
     -------
     dict
-        ``var_x``: ``(v_x T)^2 / 12 + sigma_j^2`` (Eq. (8); the paper's ``v_x^2 / 4(3)``
-        with ``v_x`` the displacement per frame, as the text derives it: uniform over
-        ``+-v_x T / 2``), ``var_y``: ``drho^2 / 3`` (Eq. (9)), ``var_vx``:
-        ``v_x^2 / (3 N_p^2) + sigma_j^2 / (N_p^2 T^2)`` (Eq. (12)), ``var_vy``:
-        ``4 drho^2 / (3 T_T^2)`` (Eq. (13)).
+        ``var_x``: :math:`(v_x T)^2 / 12 + \sigma_j^2` (Eq. (8); the paper's
+        :math:`v_x^2 / 4(3)` with :math:`v_x` the displacement per frame, as the text
+        derives it: uniform over :math:`\pm v_x T / 2`), ``var_y``:
+        :math:`\Delta\rho^2 / 3` (Eq. (9)), ``var_vx``:
+        :math:`v_x^2 / (3 N_p^2) + \sigma_j^2 / (N_p^2 T^2)` (Eq. (12)), ``var_vy``:
+        :math:`4 \Delta\rho^2 / (3 T_T^2)` (Eq. (13)).
     """
     speed = as_real(speed, "speed", 0)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
@@ -375,7 +377,7 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
     Projects the strip ``|y'| <= drho`` of the composite ``points``
     (:func:`strip_projection`), runs the ``dx'``/pulse procedure
     (:func:`project_and_correlate`), and estimates the position by Eq. (5) and the
-    speed by Eq. (7), ``v = dx' P_D L / (I T)`` (Eq. (6) when ``P_D = 1``); the
+    speed by Eq. (7), :math:`v = \Delta x' P_D L / (I T)` (Eq. (6) when :math:`P_D = 1`); the
     velocity points along the line in the direction of ``heading_hint``. The
     covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` and
     ``dx_schedule`` are passed to :func:`project_and_correlate` (``None`` and
