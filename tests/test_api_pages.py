@@ -157,3 +157,18 @@ def test_every_public_callable_documents_each_parameter(name, doc, params):
             listed |= {x.strip().lstrip("*") for x in line.split(" : ")[0].split(",")}
     missing = [p for p in params if p not in listed]
     assert not missing, f"{name} does not document {missing}"
+
+
+@pytest.mark.parametrize("page,package", [("scenes", "scenes"), ("experiments", "experiments")])
+def test_book_pages_list_every_module_of_the_scenes_and_the_studies(page, package):
+    listed = set(re.findall(r"^\.\. automodule:: (\S+)", (API / f"{page}.md").read_text(), re.M))
+    root = ROOT / "src" / "projtrack" / package
+    present = {f"projtrack.{package}"}
+    for path in root.rglob("*.py"):
+        parts = path.relative_to(root).with_suffix("").parts
+        if any(p.startswith("_") for p in parts if p != "__init__"):
+            continue
+        parts = parts[:-1] if parts[-1] == "__init__" else parts
+        present.add(".".join(("projtrack", package) + parts))
+    assert listed == present, (f"book/api/{page}.md: add {sorted(present - listed)}, "
+                               f"remove {sorted(listed - present)}")
