@@ -113,7 +113,7 @@ def _matrix_list(items: object, name: str, what: str, single: str, empty: str) -
             raise TypeError(
                 f"{name} must be a sequence of {what} matrices, got one 2-D array of shape {items.shape}: "
                 f"for {k} projection directions in {n} dimensions pass one unit vector per view, "
-                f"e.g. list(directions) (each row becomes an {n} x 1 view); for a single "
+                f"e.g. list(directions) (each row becomes a view of one column); for a single "
                 f"n x m view pass [C]")
         raise TypeError(f"{name} must be a sequence of {what} matrices, got one 2-D array of shape "
                         f"{items.shape}: pass one matrix per view (list(...) of 1 x 1 values for "
