@@ -44,7 +44,7 @@ def estimate_transitions(
     alpha: float = 1e-3,
     neighbors: object | None = None,
 ) -> sp.csr_array:
-    """Transition matrix ``A`` (eq. (13)) by relative frequencies, sparse.
+    """Transition matrix :math:`A` (equation (13)) by relative frequencies, sparse.
 
     ``a_kl = P(u(t) = u_k | u(t-1) = u_l)`` (eqs. (10)-(12); here stored row ``l``,
     column ``k``, so rows sum to one) is the number of observed ``l -> k`` transitions
@@ -98,7 +98,22 @@ def estimate_transitions(
 
 def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> np.ndarray:
     """Initial-state probabilities: state frequencies of the training sequences plus a
-    pseudo-count ``alpha`` per state (so that every state may start a trajectory)."""
+    pseudo-count ``alpha`` per state (so that every state may start a trajectory).
+
+    Parameters
+    ----------
+    sequences : sequence of array_like of int
+        Training state sequences (prototype indices).
+    n_states : int
+        Number of states.
+    alpha : float, keyword-only, default 1
+        Pseudo-count per state (> 0).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_states,)
+        Probabilities summing to 1.
+    """
     S = as_int(n_states, "n_states", minimum=1)
     seqs = _check_sequences(sequences, S)
     alpha = as_real(alpha, "alpha", 0, low_open=True)
@@ -108,7 +123,19 @@ def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> n
 
 def neighbor_graph(points: object, radius: float) -> sp.csr_array:
     """Sparse 0/1 pattern of prototype pairs closer than ``radius`` (self excluded),
-    for smoothing in :func:`estimate_transitions`."""
+    for smoothing in :func:`estimate_transitions`.
+
+    Parameters
+    ----------
+    points : array_like, shape (K, n)
+        The prototypes.
+    radius : float
+        Distance below which two prototypes are neighbours (> 0).
+
+    Returns
+    -------
+    scipy.sparse.csr_array, shape (K, K)
+    """
     from scipy.spatial import cKDTree
 
     P = as_array(points, "points", ndim=2)
@@ -129,7 +156,7 @@ def transitions_from_velocity_field(
     project: object | None = None,
     exclude_self: bool = False,
 ) -> sp.csr_array:
-    """Markov chain on prototypes from a known velocity field (Example 1, Fig. 6a).
+    """Markov chain on prototypes from a known velocity field (Example 1, Figure 6a).
 
     From each prototype ``u_l`` the point moves to ``p_l = u_l + dt * v(u_l)`` (then
     mapped by ``project``, e.g. back onto the sphere). The allowed transitions go to the
