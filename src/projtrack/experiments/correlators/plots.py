@@ -1,4 +1,9 @@
-"""Plotting helpers of the projection-correlation pages (matplotlib)."""
+"""Plotting helpers of the projection-correlation pages (matplotlib).
+
+Data are rounded to 9 decimals (:func:`_s`) before they are drawn, so that the last bits in
+which CPUs differ (FFT correlations, Monte Carlo sums) do not change the pixels of a figure
+that a page glues, and nbval compares exactly.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from projtrack import correlators as C
+
+def _s(a):
+    """Data as drawn: rounded to 9 decimals (see the module docstring)."""
+    return np.round(np.asarray(a, dtype=float), 9)
+
 
 __all__ = ["DIAGONAL_PANELS", "auto_cross_figure", "sweep_figure", "projections_figure", "central_slice_figure",
            "eq3_figure", "letters_montage", "fig3_figure", "fig4_figure", "fig5_figure", "extent_figure", "snr_loss_figure", "fig10_figure",
@@ -52,12 +62,12 @@ def auto_cross_figure(shown: Sequence[tuple[np.ndarray, str]], inputs: Sequence[
         raise ValueError(f"auto_cross_figure draws 2 images and 4 panels, got {len(shown)} and {len(panels)}")
     fig, axes = plt.subplots(2, 3, figsize=(6.4, 4.2))
     for ax, (img, title) in zip(axes[0, :2], shown):
-        ax.imshow(img, cmap=cmap); ax.set_title(title); ax.axis("off")
+        ax.imshow(_s(img), cmap=cmap); ax.set_title(title); ax.axis("off")
     for ax, (theta, title) in zip([axes[0, 2], *axes[1]], panels):
         scale = float(C.projection_correlation(inputs[0][0], reference, theta).max()) if normalize else None
         for x, name, color in inputs:
             pc, r = C.projection_correlation(x, reference, theta, return_r=True)
-            ax.plot(r, pc if scale is None else pc / scale, color=color, label=name)
+            ax.plot(_s(r), _s(pc if scale is None else pc / scale), color=color, label=name)
         ax.set_title(title); ax.set_xlabel("$r$"); ax.set_xlim(-xlim, xlim)
     axes[0, 2].legend(frameon=False, fontsize=7.5)
     if normalize:
@@ -71,10 +81,10 @@ def sweep_figure(sweep, baselines, paper: Sequence[tuple[float, float]] = ((0.44
     the paper's bank against 2-D correlation and pixel-space baselines (right)."""
     fig, axes = plt.subplots(1, 2, figsize=(6.4, 3.6), sharey=True)
     for k in sweep.columns[1:]:
-        axes[0].plot(sweep["sigma"], sweep[k], marker="o", ms=3, label=k)
+        axes[0].plot(_s(sweep["sigma"]), _s(sweep[k]), marker="o", ms=3, label=k)
     axes[0].plot(*zip(*paper), ls="none", marker="*", ms=9, color="k", label="paper")
     for k in baselines.columns[1:]:
-        axes[1].plot(baselines["sigma"], baselines[k], marker="o", ms=3, label=k)
+        axes[1].plot(_s(baselines["sigma"]), _s(baselines[k]), marker="o", ms=3, label=k)
     for ax, title in zip(axes, ("projection banks", "against 2-D and baselines")):
         ax.axvline(0.44, color="0.5", lw=0.8, ls=":")
         ax.set_xlabel(r"noise $\sigma$"); ax.set_title(title)
@@ -95,7 +105,7 @@ def projections_figure(image: np.ndarray, angles: Sequence[float] = (0, 90, 45, 
     ax0.set_xticks([]); ax0.set_yticks([])
     for ax, theta in zip([axes[0, 1], axes[0, 2], axes[1, 0], axes[1, 1]], angles):
         p, r = C.project(image, theta, return_r=True)
-        ax.bar(r, p, width=(r[1] - r[0]) * 0.9, color="C0")
+        ax.bar(_s(r), _s(p), width=float(_s(r[1] - r[0])) * 0.9, color="C0")
         ax.set_xlim(-12, 12)
         ax.set_title(rf"$\theta = {theta:g}^\circ$")
         ax.set_xlabel("$r$ (pixels)")
@@ -108,8 +118,8 @@ def central_slice_figure(image: np.ndarray, rho: np.ndarray, angles: Sequence[fl
     """|1-D FT of the projection| over |slice of the 2-D FT| at three angles (Fig. 1, eq. (2))."""
     fig, axes = plt.subplots(1, len(angles), figsize=(6.4, 2.5), sharey=True)
     for ax, theta in zip(np.atleast_1d(axes), angles):
-        ax.plot(rho, np.abs(C.fourier_slice(image, theta, rho)), lw=2.5, color="0.75", label="slice of 2-D FT")
-        ax.plot(rho, np.abs(C.projection_spectrum(image, theta, rho)), lw=1.0, color="C3", label="FT of projection")
+        ax.plot(rho, _s(np.abs(C.fourier_slice(image, theta, rho))), lw=2.5, color="0.75", label="slice of 2-D FT")
+        ax.plot(rho, _s(np.abs(C.projection_spectrum(image, theta, rho))), lw=1.0, color="C3", label="FT of projection")
         ax.set_title(rf"$\theta = {theta:g}^\circ$")
         ax.set_xlabel(r"$\rho$ (cycles/pixel)")
     axes[0].set_ylabel("magnitude")
@@ -125,19 +135,19 @@ def eq3_figure(image: np.ndarray):
     fig, axes = plt.subplots(2, 2, figsize=(6.4, 4.6))
     lim = float(np.max(np.abs(plane)))
     h = (plane.shape[0] - 1) / 2
-    axes[0, 0].imshow(plane, cmap="RdBu_r", vmin=-lim, vmax=lim, extent=(-h, h, -h, h))
+    axes[0, 0].imshow(_s(plane), cmap="RdBu_r", vmin=-float(_s(lim)), vmax=float(_s(lim)), extent=(-h, h, -h, h))
     axes[0, 0].set_title("(a) 2-D bipolar autocorrelation")
     axes[0, 0].set_xlim(-16, 16); axes[0, 0].set_ylim(-16, 16)
     for ax, theta, name in ((axes[0, 1], 0, "(b) vertical"), (axes[1, 0], 90, "(c) horizontal")):
         pc, r = C.projection_correlation(image, image, theta, return_r=True)
-        ax.plot(r, pc, color="C0", label="projection correlation")
-        ax.plot(r, C.integrated_correlation(image, image, theta), ".", ms=3, color="C3", label="projected 2-D plane")
+        ax.plot(_s(r), _s(pc), color="C0", label="projection correlation")
+        ax.plot(_s(r), _s(C.integrated_correlation(image, image, theta)), ".", ms=3, color="C3", label="projected 2-D plane")
         ax.set_xlim(-20, 20); ax.set_title(rf"{name} ($\theta = {theta}^\circ$)"); ax.set_xlabel("$r$ (pixels)")
     axes[0, 1].legend(frameon=False, fontsize=7.5)
     pc, r = C.projection_correlation(image, image, 0, return_r=True)
     inten = C.project(plane ** 2, 0)
-    axes[1, 1].plot(r, pc ** 2 / np.max(pc ** 2), color="C0", label="(projection corr.)$^2$")
-    axes[1, 1].plot(r, inten / inten.max(), color="C2", label="projected $|c|^2$")
+    axes[1, 1].plot(_s(r), _s(pc ** 2 / np.max(pc ** 2)), color="C0", label="(projection corr.)$^2$")
+    axes[1, 1].plot(_s(r), _s(inten / inten.max()), color="C2", label="projected $|c|^2$")
     axes[1, 1].set_xlim(-20, 20); axes[1, 1].set_title("(d) intensity detection")
     axes[1, 1].legend(frameon=False, fontsize=7.5); axes[1, 1].set_xlabel("$r$ (pixels)")
     fig.tight_layout()
@@ -169,12 +179,12 @@ def fig3_figure(image: np.ndarray):
     h = (plane.shape[0] - 1) // 2
     fig, axes = plt.subplots(2, 2, figsize=(6.4, 4.4))
     axes[0, 0].imshow(image[6:26, 6:26], cmap="gray_r"); axes[0, 0].set_title("(a) input C")
-    axes[0, 1].imshow(plane[h - 16:h + 17, h - 16:h + 17], cmap="viridis"); axes[0, 1].set_title("(b) 2-D correlation")
+    axes[0, 1].imshow(_s(plane[h - 16:h + 17, h - 16:h + 17]), cmap="viridis"); axes[0, 1].set_title("(b) 2-D correlation")
     for ax in axes[0]:
         ax.axis("off")
     pc, r = C.projection_correlation(image, image, 0, return_r=True)
-    axes[1, 0].plot(r, pc); axes[1, 0].set_title("(c) vertical projection corr.")
-    axes[1, 1].plot(r, C.integrated_correlation(image, image, 0), color="C3")
+    axes[1, 0].plot(_s(r), _s(pc)); axes[1, 0].set_title("(c) vertical projection corr.")
+    axes[1, 1].plot(_s(r), _s(C.integrated_correlation(image, image, 0)), color="C3")
     axes[1, 1].set_title("(d) vertically integrated 2-D corr.")
     for ax in axes[1]:
         ax.set_xlabel("$r$ (pixels)"); ax.set_xlim(-32, 32)
@@ -187,7 +197,7 @@ def fig4_figure(image: np.ndarray):
     fig, axes = plt.subplots(1, 2, figsize=(6.4, 2.4), sharey=True)
     for ax, theta, name in ((axes[0], 0, "(a) vertical"), (axes[1], 90, "(b) horizontal")):
         pc, r = C.projection_correlation(image, image, theta, return_r=True)
-        ax.plot(r, pc); ax.axhline(0, color="0.6", lw=0.6)
+        ax.plot(_s(r), _s(pc)); ax.axhline(0, color="0.6", lw=0.6)
         ax.set_title(f"{name} projection corr."); ax.set_xlabel("$r$ (pixels)"); ax.set_xlim(-32, 32)
     fig.tight_layout()
     return fig
@@ -200,11 +210,11 @@ def fig5_figure(x: np.ndarray, reference: np.ndarray, *, crop: int = 16):
     hp = C.circular_correlate(C.project(x, 90), C.project(reference, 90))
     r = np.arange(len(hp)) - len(hp) // 2
     fig, axes = plt.subplots(1, 3, figsize=(6.4, 2.3), gridspec_kw={"width_ratios": [1, 1, 1.3]})
-    axes[0].imshow(np.abs(x[crop:-crop, crop:-crop]), cmap="gray_r"); axes[0].set_title("(a) |noisy input|")
-    axes[1].imshow(np.abs(plane), cmap="viridis"); axes[1].set_title("(b) |2-D correlation|")
+    axes[0].imshow(_s(np.abs(x[crop:-crop, crop:-crop])), cmap="gray_r"); axes[0].set_title("(a) noisy input, magnitude")
+    axes[1].imshow(_s(np.abs(plane)), cmap="viridis"); axes[1].set_title("(b) 2-D corr., magnitude")
     for ax in axes[:2]:
         ax.axis("off")
-    axes[2].plot(r, hp); axes[2].axhline(0, color="0.6", lw=0.6)
+    axes[2].plot(r, _s(hp)); axes[2].axhline(0, color="0.6", lw=0.6)
     axes[2].set_title("(c) horizontal proj. corr."); axes[2].set_xlabel("$r$ (pixels)")
     fig.tight_layout()
     return fig
@@ -217,9 +227,9 @@ def extent_figure(table, printed: dict[str, float], chosen: dict[str, int]):
     fig, axes = plt.subplots(1, 2, figsize=(6.4, 2.8), sharex=True)
     for ax, col in zip(axes, ("2-D SNR", "horizontal SNR")):
         for k, (plane, sub) in enumerate(table.groupby("plane", sort=False)):
-            ax.semilogy(sub["noise extent"], sub[col], color=f"C{k}", label=plane)
+            ax.semilogy(sub["noise extent"], _s(sub[col]), color=f"C{k}", label=plane)
             e = chosen[plane]
-            ax.semilogy([e], sub.loc[sub["noise extent"] == e, col], "o", color=f"C{k}", ms=5)
+            ax.semilogy([e], _s(sub.loc[sub["noise extent"] == e, col]), "o", color=f"C{k}", ms=5)
         ax.axhline(printed[col], color="k", lw=0.8, ls="--")
         ax.set_xlabel("noise extent (pixels)"); ax.set_title(f"{col} (median; dashed: paper)")
     axes[0].legend(frameon=False, fontsize=7.5)
@@ -235,8 +245,8 @@ def snr_loss_figure(table):
     markers = {"uniform (paper's white)": "o", "single pixel": "s", "random +-1 texture": "^", "letter C": "*"}
     for name, marker in markers.items():
         sub = table[table["signal"] == name]
-        ax.loglog(sub["N"], sub["loss factor"], marker=marker, ms=7, ls="none", label=f"Monte Carlo: {name}")
-        ax.loglog(sub["N"], sub["loss, closed form"], marker="_", ms=14, ls="none", color="k")
+        ax.loglog(sub["N"], _s(sub["loss factor"]), marker=marker, ms=7, ls="none", label=f"Monte Carlo: {name}")
+        ax.loglog(sub["N"], _s(sub["loss, closed form"]), marker="_", ms=14, ls="none", color="k")
     ns = np.array([12, 80])
     ax.loglog(ns, np.ones_like(ns, dtype=float), color="0.5", lw=0.8, label="no loss")
     ax.loglog(ns, np.sqrt(ns), color="0.2", lw=0.8, ls="--", label=r"worst case $N^{1/2}$")
@@ -263,7 +273,7 @@ def fig10_figure(scene: np.ndarray, truth: Sequence[tuple[int, int]], template: 
     names = list(results)
     res3 = results[names[1]]
     for p, r, theta, color in zip(res3["projections"], res3["r"], angles, ("C0", "C1", "C2", "C4")):
-        axes[0, 1].plot(r, p, color=color, label=rf"$\theta = {theta:g}^\circ$")
+        axes[0, 1].plot(_s(r), _s(p), color=color, label=rf"$\theta = {theta:g}^\circ$")
     axes[0, 1].axhline(threshold, color="0.5", lw=0.7, ls=":"); axes[0, 1].set_xlabel("$r$ (pixels)")
     axes[0, 1].set_title("normalized projection corr."); axes[0, 1].legend(frameon=False, fontsize=7.5)
     hg, wg = template.shape
@@ -271,9 +281,9 @@ def fig10_figure(scene: np.ndarray, truth: Sequence[tuple[int, int]], template: 
     ext = (-(wg - 1) / 2 - 0.5, w + (wg - 1) / 2 - 0.5, h + (hg - 1) / 2 - 0.5, -(hg - 1) / 2 - 0.5)
     for ax, name in zip(axes[1], names[:2]):
         res = results[name]
-        ax.imshow(np.clip(res["map"], 0, 2), cmap="magma", extent=ext)
+        ax.imshow(_s(np.clip(res["map"], 0, 2)), cmap="magma", extent=ext)
         for r, q in res["positions"]:
-            ax.plot(q, r, "o", mfc="none", mec="cyan", ms=8)
+            ax.plot(float(_s(q)), float(_s(r)), "o", mfc="none", mec="cyan", ms=8)
         ax.set_xlim(-0.5, w - 0.5); ax.set_ylim(h - 0.5, -0.5)
         ax.set_title(f"{name}: {len(res['positions'])} candidates")
     for ax in (axes[0, 0], *axes[1]):
@@ -319,12 +329,12 @@ def architectures_figure():
 def time_integrating_figure(output: np.ndarray, labels: Sequence[str], title: str):
     """The P3 output of the time-integrating correlator (channels x lags) and its largest value per channel."""
     fig, axes = plt.subplots(2, 1, figsize=(6.4, 4.6))
-    im = axes[0].imshow(output, aspect="auto", cmap="RdBu_r", vmin=-1, vmax=1)
+    im = axes[0].imshow(_s(output), aspect="auto", cmap="RdBu_r", vmin=-1, vmax=1)
     fig.colorbar(im, ax=axes[0], fraction=0.05, pad=0.02, label="bipolar correlation")
     axes[0].set_xlabel("detector column (lag)"); axes[0].set_ylabel("channel (class)")
     axes[0].set_yticks(range(0, len(labels), 5), labels=[labels[i] for i in range(0, len(labels), 5)])
     axes[0].set_title(title)
-    axes[1].plot(output.max(axis=1), "o", ms=4)
+    axes[1].plot(_s(output.max(axis=1)), "o", ms=4)
     axes[1].set_xticks(range(len(labels)), labels=list(labels), fontsize=7.5)
     axes[1].set_title("largest output per channel"); axes[1].set_ylabel("peak")
     fig.tight_layout()
