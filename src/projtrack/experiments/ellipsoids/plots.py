@@ -187,16 +187,20 @@ def tracking_figure(Xs: np.ndarray, X_est: np.ndarray, Ys: Sequence[np.ndarray],
     rows = [range(0, K // 2, 2), range(K // 2, K, 2)]
     steps = range(0, K, 2)
     # frame and spacing large enough for every ellipse drawn (estimates of the first steps can be large)
+    # the frame fits the truth and the supports, and estimates up to twice the truth's size (larger ones are cut)
     shown_est = [E.nearest_psd(X_est[k]) for k in steps]
-    ext = max(float(np.sqrt(max(M[1, 1], 0))) for M in list(shown_est) + [Xs[k] for k in steps])
-    wid = max(float(np.sqrt(max(M[0, 0], 0))) for M in list(shown_est) + [Xs[k] for k in steps] + [Ys[k] for k in steps])
+    true_ext = max(float(np.sqrt(Xs[k][1, 1])) for k in steps)
+    true_wid = max(float(np.sqrt(Xs[k][0, 0])) for k in steps)
+    ext = min(2 * true_ext, max(float(np.sqrt(max(M[1, 1], 0))) for M in list(shown_est) + [Xs[k] for k in steps]))
+    wid = min(2 * true_wid, max(float(np.sqrt(max(M[0, 0], 0))) for M in list(shown_est) + [Xs[k] for k in steps]))
+    wid = max(wid, max(float(np.sqrt(Ys[k][0, 0])) for k in steps))
     dx = max(4.6, 2.2 * wid)
     ylim = max(3.2, 1.15 * ext)
     row_h = 5.9 * 2 * ylim / (len(rows[0]) * dx)  # height of an equal-aspect row 5.9 inches wide
     fig, axs = plt.subplots(2, 1, figsize=(6.4, 2 * (max(1.3, row_h) + 0.5) + 1.0))
     for r, (ax, row) in enumerate(zip(axs, rows)):
         strip(ax, Xs, row, dx, {"color": "0.45", "lw": 1.0, "ls": ":"}, "true")
-        strip(ax, X_est, row, dx, {"color": "k", "lw": 1.2}, "estimate")
+        strip(ax, X_est, row, dx, {"color": "k", "lw": 1.2, "clip_on": True}, "estimate")
         for i, k in enumerate(row):
             h = np.sqrt(Ys[k][0, 0])
             for s in (-1, 1):

@@ -8,7 +8,8 @@ often the least squares estimate leaves the PSD cone (:func:`ls_psd_frequency`,
 give (:func:`interval_readings`, :func:`interval_bound_study`) and of its noise variance
 (:func:`snr_readings`). The random checks of the operators behind them (the rank test of
 Sec. 5.1, :func:`hyperplane_ranks`; eqs. 5, 6 and 10 on the representation page,
-:func:`ctilde_identity_study`, :func:`projector_form_study`) live here too.
+:func:`ctilde_identity_study`, :func:`projector_form_study`; what the shaping family of eq. 22
+reaches, :func:`shaping_family_study`) live here too.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from projtrack.experiments.ellipsoids.selection import median_draw
 __all__ = ["demo_interval", "interval_readings", "ideal_supports", "ls_estimates", "shown_static_draw",
            "three_estimates", "describe_estimates", "non_psd_pool_study", "constraints_inactive", "interval_bound_study",
            "ls_psd_frequency", "snr_readings", "hyperplane_rank_trial", "hyperplane_ranks",
-           "ctilde_identity_trial", "ctilde_identity_study", "projector_form_trial", "projector_form_study"]
+           "ctilde_identity_trial", "ctilde_identity_study", "projector_form_trial", "projector_form_study",
+           "shaping_family_study"]
 
 
 def _at_pi4(a: float, b: float) -> np.ndarray:
@@ -461,3 +463,69 @@ def projector_form_study(n_checks: int, rng: np.random.Generator, n_max: int = 6
               ("C~ of eq. (5) symmetric", "P_symmetric"), ("C~ of eq. (5) idempotent", "P_idempotent")]
     rows = [{"check": name, "max deviation": float(t[key].max())} for name, key in checks]
     return pd.DataFrame(rows), int((t["rank"] == t["expected_rank"]).sum())
+
+
+def _family(phi: float, alpha: float, tau: float, psi: float) -> np.ndarray:
+    # the map of eq. (22): rotate by psi, magnify by tau, stretch by (alpha, 1/alpha), rotate by phi
+    return S.rotation(phi) @ np.diag([alpha, 1 / alpha]) @ (tau * np.eye(2)) @ S.rotation(psi)
+
+
+def _family_parameters(L: np.ndarray) -> tuple[float, float, float, float]:
+    # (phi, alpha, tau, psi) of a 2 x 2 matrix with det > 0, from its SVD with both factors rotations
+    U, sv, Vt = np.linalg.svd(L)
+    if np.linalg.det(U) < 0:  # det L > 0: then det V < 0 too; flipping both keeps U diag(sv) V^T
+        U, Vt = U * [1, -1], Vt * [[1], [-1]]
+    return (float(np.arctan2(U[1, 0], U[0, 0])), float(np.sqrt(sv[0] / sv[1])), float(np.sqrt(sv[0] * sv[1])),
+            float(np.arctan2(Vt[1, 0], Vt[0, 0])))
+
+
+def shaping_family_study(n_draws: int, rng: np.random.Generator) -> tuple[pd.DataFrame, dict]:
+    """What the family of eq. (22) reaches: "any linear transformation of the plane" (Sec. 6.1)?
+
+    Every member has determinant ``tau^2 >= 0``. For ``n_draws`` Gaussian 2 x 2 matrices ``L``
+    (and a random ellipse ``X`` each, :func:`projtrack.scenes.ellipses.random_ellipsoid`):
+    those with ``det L > 0`` are decomposed by the SVD into ``(phi, alpha, tau, psi)`` and rebuilt;
+    those with ``det L < 0`` (a reflection composed with a map of the family) cannot be, but their
+    effect ``L X L^T`` (eq. 3) on the given ellipse is that of ``L S``, ``S`` the ellipse's own mirror
+    symmetry, which has ``det > 0``; a rank-one map sends ``X`` to a segment, which no member with
+    ``tau != 0`` does. Also checks that ``A`` of eq. (23) (:func:`projtrack.ellipsoids.shaping_matrix`)
+    is the transpose of the map of eq. (22), so ``A^T X A = L X L^T``.
+
+    Returns
+    -------
+    (table, checks)
+        ``table``: one row per class of maps (share of the draws, whether the map itself and its
+        effect on an ellipse are reached); ``checks``: the largest deviations ``rebuild``
+        (``|L - L(phi, alpha, tau, psi)|``, det > 0), ``mirror`` (``|(LS) X (LS)^T - L X L^T|`` with
+        ``LS`` rebuilt from its parameters, det < 0), ``transpose`` (``|A^T X A - L X L^T|``) and the
+        counts ``n_pos``, ``n_neg``.
+    """
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    rng = as_rng(rng)
+    dev = {"rebuild": 0.0, "mirror": 0.0, "transpose": 0.0}
+    n_pos = 0
+    for _ in range(n_draws):
+        L = rng.normal(size=(2, 2))
+        X = S.random_ellipsoid(2, rng)
+        if np.linalg.det(L) > 0:
+            n_pos += 1
+            par = _family_parameters(L)
+            dev["rebuild"] = max(dev["rebuild"], float(np.abs(_family(*par) - L).max()))
+        else:
+            V = np.linalg.eigh(X)[1]
+            M = L @ (V @ np.diag([1.0, -1.0]) @ V.T)  # L composed with the ellipse's mirror symmetry
+            par = _family_parameters(M)
+            Mr = _family(*par)
+            dev["mirror"] = max(dev["mirror"], float(np.abs(Mr @ X @ Mr.T - L @ X @ L.T).max()))
+        A = E.shaping_matrix(par[2], par[1], par[3], par[0])  # eq. (23): (tau, alpha, psi, phi)
+        Lr = _family(*par)
+        dev["transpose"] = max(dev["transpose"], float(np.abs(A.T @ X @ A - Lr @ X @ Lr.T).max()))
+    table = pd.DataFrame([
+        {"maps L": "det L > 0", "share of the draws": n_pos / n_draws, "L reached": "yes",
+         "L X L^T reached": "yes"},
+        {"maps L": "det L < 0 (with a reflection)", "share of the draws": 1 - n_pos / n_draws,
+         "L reached": "no: det = tau^2 >= 0", "L X L^T reached": "yes: L S, S the ellipse's mirror"},
+        {"maps L": "rank one", "share of the draws": 0.0, "L reached": "no: det = tau^2 > 0 or L = 0",
+         "L X L^T reached": "no: a segment"},
+    ])
+    return table, {**dev, "n_pos": n_pos, "n_neg": n_draws - n_pos}
