@@ -135,7 +135,7 @@ def three_estimates(Ys: Sequence[object], Cs: Sequence[np.ndarray], X_lo: object
         :class:`~projtrack.ellipsoids.HalfspaceResult`; the largest Frobenius distance between
         Algorithm 1 and the SDP.
     """
-    out = {"LS": E.reconstruct(Ys, Cs)}
+    out = {"LS": E.reconstruct(Ys, Cs, indefinite="ignore")}  # noisy data: an indefinite LS estimate is the point
     res_psd = E.halfspace_reconstruct(Ys, Cs, lower=0)
     res_int = E.halfspace_reconstruct(Ys, Cs, lower=X_lo, upper=X_hi)
     out["PSD"], out["interval"] = res_psd.X, res_int.X
