@@ -81,7 +81,7 @@ def plot_plain_vs_thresholded(frames: object, runs: dict, n_targets: int = 5):
                         Line2D([], [], ls="--", color="C1", label="false line, rejected"),
                         Line2D([], [], ls="--", color="C3", label="false line, confirmed")],
                loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=3, frameon=False)
-    fig.tight_layout(rect=(0, 0.13, 1, 1))
+    fig.tight_layout(rect=(0, 0.17, 1, 1))
     return fig
 
 
