@@ -122,8 +122,8 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     :func:`local_average`: with ``exclude_ridge=1`` the ratio compares a cell with the
     mean of its ``5 x 5`` window without the three ``rho`` rows through it, i.e. with the
     background of the plane rather than with the line's own ridge. For an ideal line of
-    ``N`` votes on a bias ``b`` the paper's ratio is ``N / (N/5 + b) < 5``, the
-    ridge-free one ``N / b``.
+    ``N`` votes on a bias ``b`` (false pixels vote in the line's own cell too) the paper's
+    ratio is ``(N + b) / (N/5 + b) < 5``, the ridge-free one ``(N + b) / b``.
 
     Parameters
     ----------
