@@ -33,6 +33,7 @@ from projtrack.neuralnet import (assignment_max_sums, distance_tensor, fixed_poi
                                  is_correct_assignment, is_fixed_point, run_net, states_to_assignment)
 from projtrack.scenes.tracks3d import TrackScene, make_tracks
 
+from .failures import draws_modes, mode_counts
 from .table1 import draw_simulation, run_draws, score_simulation, simulate
 
 __all__ = [
@@ -50,8 +51,9 @@ __all__ = [
     "direct_check_trial",
 ]
 
-#: Per-run results of :func:`simulate` kept by :func:`table1_study`.
-TABLE1_KEYS = ("status", "iterations", "converged", "correct", "optimal_correct")
+#: Per-run results of :func:`simulate` kept by :func:`table1_study`, with the run's
+#: :data:`~projtrack.experiments.neuralnet.MODES` label (``mode``).
+TABLE1_KEYS = ("status", "iterations", "converged", "correct", "optimal_correct", "mode")
 
 _PERMS4 = np.array(list(itertools.permutations(range(4))))
 _PERM4_INDEX = {tuple(p): k for k, p in enumerate(_PERMS4)}
@@ -109,10 +111,13 @@ def table1_study(noise_levels: Sequence[float], n_runs: int, chunk: int, seed: i
     seed = as_int(seed, "seed", minimum=0)
     draws = {n: montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed + i), chunk, 1, n)
              for i, n in enumerate(levels)}
-    results = iter(run_draws([d for n in levels for d in draws[n]]))   # all nets of all levels at once
+    flat = [d for n in levels for d in draws[n]]
+    results = run_draws(flat)   # all nets of all levels at once
+    modes = iter(draws_modes(flat, results))
+    results = iter(results)
     out = {}
     for n in levels:
-        parts = [score_simulation(d, next(results)) for d in draws[n]]
+        parts = [{**score_simulation(d, next(results)), "mode": next(modes)} for d in draws[n]]
         out[n] = {k: np.concatenate([p[k] for p in parts]) for k in TABLE1_KEYS}
     return out
 
@@ -133,8 +138,8 @@ def sensitivity_trial(rng: np.random.Generator, noise_percent: float, unit: floa
 
 
 def sensitivity_cell(noise_percent: float, unit: float, noise_law: str, options: dict[str, Any],
-                     seed: object, n_runs: int, chunk: int) -> tuple[int, int]:
-    """Successes and wrong convergences of ``n_runs`` simulations under one reading.
+                     seed: object, n_runs: int, chunk: int) -> dict[str, int]:
+    """How ``n_runs`` simulations under one reading end.
 
     ``n_runs // chunk`` trials of :func:`sensitivity_trial` drawn from
     ``numpy.random.default_rng(seed)`` (``seed`` anything ``default_rng`` accepts, e.g. a
@@ -142,16 +147,17 @@ def sensitivity_cell(noise_percent: float, unit: float, noise_law: str, options:
 
     Returns
     -------
-    successes : int
-        Converged to the correct assignment.
-    wrong : int
-        Converged to a wrong assignment.
+    dict
+        The number of runs in each of :data:`~projtrack.experiments.neuralnet.MODES`
+        (:func:`~projtrack.experiments.neuralnet.run_modes`): ``correct`` (the paper's success),
+        ``wrong`` (converged to a wrong state), ``cycle with the truth``, ``other cycle``,
+        ``wandering``.
     """
     return sensitivity_cells([(noise_percent, unit, noise_law, options, seed)], n_runs, chunk)[0]
 
 
 def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], object]], n_runs: int, chunk: int
-                      ) -> list[tuple[int, int]]:
+                      ) -> list[dict[str, int]]:
     """:func:`sensitivity_cell` for many cells, the nets of all cells with the same options in one batch.
 
     Parameters
@@ -163,7 +169,7 @@ def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], o
 
     Returns
     -------
-    list of (successes, wrong)
+    list of dict
         In the order of ``cells``; equal to ``[sensitivity_cell(*c, n_runs, chunk) for c in cells]``.
     """
     n_trials = _as_trials(n_runs, chunk, "n_runs")
@@ -178,14 +184,13 @@ def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], o
         draws.append(montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed), chunk, 1, noise,
                                     noise_law=law, unit=float(unit)))
         groups.setdefault(tuple(sorted(options.items())), []).append(j)
-    out: list[tuple[int, int]] = [(0, 0)] * len(cells)
+    out: list[dict[str, int]] = [{} for _ in cells]
     for key, members in groups.items():
-        results = iter(run_draws([d for j in members for d in draws[j]], **dict(key)))
+        flat = [d for j in members for d in draws[j]]
+        results = run_draws(flat, **dict(key))
+        modes = iter(draws_modes(flat, results, **dict(key)))
         for j in members:
-            parts = [score_simulation(d, next(results), references=False) for d in draws[j]]
-            conv = np.concatenate([p["converged"] for p in parts])
-            ok = np.concatenate([p["correct"] for p in parts])
-            out[j] = (int(ok.sum()), int((conv & ~ok).sum()))
+            out[j] = mode_counts(np.concatenate([next(modes) for _ in draws[j]]))
     return out
 
 
