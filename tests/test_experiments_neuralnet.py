@@ -389,7 +389,7 @@ def test_fmt_p_bounds_tiny_probabilities():
 import pandas as pd  # noqa: E402
 
 from projtrack.experiments.neuralnet import (SENSITIVITY_RULES, ci_step, mode_probability,  # noqa: E402
-                                             sensitivity_readings, sensitivity_seed, sensitivity_study,
+                                             sensitivity_readings, table1_readings, sensitivity_seed, sensitivity_study,
                                              sensitivity_table, sensitivity_verdicts, ten_run_replications)
 
 
@@ -635,16 +635,29 @@ def test_frame_rule_study_runs_on_the_table1_draws():
 
 
 def test_update_order_study_runs_both_orders_on_the_same_draws():
-    rows = update_order_study([0.0], [256], 4, 2, seed=8)
-    assert [r["update"] for r in rows] == ["serial", "parallel"]
+    table, tol = update_order_study([0.0], [256], 4, 2, seed=8)
+    assert list(table.columns) == ["unit (px)", "noise %", "serial converged %", "serial sweeps",
+                                   "parallel converged %", "parallel sweeps"]
     draws = montecarlo.run(draw_simulation, 2, np.random.default_rng([8, 0, 0]), 2, 1, 0.0, unit=256.0)
-    for row, mode in zip(rows, ["serial", "parallel"]):
+    for mode in ["serial", "parallel"]:
         res = run_draws(draws, mode=mode)
-        assert row["sweeps"] == float(np.concatenate([r.iterations for r in res]).mean())
-        assert row["converged %"] == 100 * float(np.concatenate([r.converged for r in res]).mean())
-    assert rows[1]["converged %"] == 0.0 and rows[1]["sweeps"] == 50.0
+        assert table.loc[0, f"{mode} sweeps"] == float(np.concatenate([r.iterations for r in res]).mean())
+        assert table.loc[0, f"{mode} converged %"] == 100 * float(np.concatenate([r.converged for r in res]).mean())
+    assert table.loc[0, "parallel converged %"] == 0.0 and table.loc[0, "parallel sweeps"] == 50.0
+    assert tol["serial sweeps"].atol == 12.5 and tol["serial converged %"].atol == 25.0
     with pytest.raises(ValueError, match="empty"):
         update_order_study([], [256], 2, 2, seed=0)
+
+
+def test_frame_rule_table_reads_the_study():
+    from projtrack.experiments.neuralnet import frame_rule_table
+    frames = {0.0: {"correct": np.array([True, False]), "converged": np.array([True, True]),
+                    "rounds": np.array([2, 4])}}
+    t, tol = frame_rule_table(frames, [10])
+    assert t.loc[0, "correct %"] == 50.0 and t.loc[0, "stopped wrong %"] == 50.0 and t.loc[0, "rounds"] == 3.0
+    assert tol["*"].atol == 50.0 and tol["rounds"].atol == 25.0
+    with pytest.raises(ValueError, match="paper_k"):
+        frame_rule_table(frames, [10, 9])
 
 
 # ----------------------------------------------------------------------------- eq. (8) and eq. (10)
@@ -676,3 +689,89 @@ def test_connection_check_counts_and_compares():
     assert big["neurons"] == 300 and big["assignment ones"] == 30
     with pytest.raises(ValueError, match="n_frames"):
         connection_check(3, 3, 2, np.random.default_rng(0))
+
+
+def test_gradient_forms_agree_except_the_printed_term3():
+    from projtrack.experiments.neuralnet import gradient_forms
+    scene = make_tracks(np.random.default_rng(3), 3, 4)
+    D = nn.distance_tensor(scene.positions / 256)
+    table, exact_ok, fd_ok, printed = gradient_forms(np.random.default_rng(4).random((3, 3, 4)), D)
+    assert exact_ok and fd_ok and printed > 1.0
+    assert list(table["agrees"]) == [True, True, True, True, False]
+    assert table["largest difference from eq. (9)"].iloc[0] == "< 1e-12"
+
+
+def test_bound_text_hides_rounding_noise_only():
+    from projtrack.experiments.neuralnet import bound_text
+    assert bound_text(0.0) == "< 1e-12" and bound_text(2e-9, 1e-7) == "< 1e-7"
+    assert bound_text(0.5) == "5.0e-01"
+    with pytest.raises(ValueError, match="value"):
+        bound_text(-1.0)
+
+
+# ----------------------------------------------------------------------------- the bound, read at cuts
+from projtrack.experiments.neuralnet import (bound_holds, bound_table, cut_for_rates, fixed_point_grid,  # noqa: E402
+                                             stable_down, stable_up, table1_tables)
+
+_BOUND = {0.0: [{"truth": 0.0, "wrong": 30.0}, {"truth": 1e-14, "wrong": 50.0}],
+          5.0: [{"truth": 10.0, "wrong": 40.0}, {"truth": 60.0, "wrong": 70.0}]}
+
+
+def test_bound_table_reads_the_enumeration_at_one_cut():
+    t, tol = bound_table(_BOUND, 20.0)
+    assert list(t["truth is a fixed point %"]) == [100.0, 50.0]
+    assert list(t["a wrong one is a fixed point %"]) == [0.0, 0.0]
+    assert t["median max S of the truth (px)"].tolist() == [0.0, 35.0]      # rounding noise of straight tracks is 0
+    assert t.loc[1, "bound, 95% high %"] == pytest.approx(100 * rate_ci(1, 2)[1])
+    assert tol["truth is a fixed point %"].atol == 50.0
+    with pytest.raises(ValueError, match="0.0"):
+        bound_table({5.0: _BOUND[5.0]}, 20.0)
+
+
+def test_fixed_point_grid_scales_the_cut_with_rule_and_unit():
+    rules = {"as printed": {}, "no self term": {"self_coupling": False}}
+    g, tol = fixed_point_grid(_BOUND, rules, [256, 1])
+    assert list(g.columns) == ["rule", "unit (px)", "truth fixed at 5% %", "wrong fixed at 0% %"]
+    assert g["unit (px)"].tolist() == [256, 1, 256, 1]
+    # as printed at 256 px the cut is 0.035 / 1.8 * 256 = 4.98 px; without the self term at 1 px it is 16.7 px
+    assert g["truth fixed at 5% %"].tolist() == [0.0, 0.0, 100.0, 50.0]
+    assert g["wrong fixed at 0% %"].tolist() == [0.0, 0.0, 100.0, 0.0]
+    assert tol["*"].atol == 50.0
+
+
+def test_cut_for_rates_and_bound_holds():
+    assert cut_for_rates(_BOUND, {5.0: 0.5}) == pytest.approx(10.0, rel=1e-5)
+    assert cut_for_rates(_BOUND, {5.0: 1.0}) == pytest.approx(60.0, rel=1e-5)
+    assert cut_for_rates(_BOUND, {5.0: 0.0}) == 0.0
+    grid = pd.DataFrame({"rule": ["as printed"], "unit (px)": [256], "truth fixed at 5% %": [0.0]})
+    shares = pd.DataFrame({"reading": ["as printed, ball, unit 256"] * 2, "noise %": [0.0, 5.0],
+                           "correct %": [80.0, 50.0]})
+    h = bound_holds(grid, shares, runs=100, n_sets=100)
+    assert len(h) == 1 and not h.loc[0, "holds"]          # 50 of 100 runs against a bound of 0 of 100 data sets
+    assert bound_holds(grid, shares.assign(**{"correct %": [80.0, 1.0]}), 100, 100).loc[0, "holds"]
+    with pytest.raises(ValueError, match="noise level"):
+        cut_for_rates(_BOUND, {2.5: 0.5})
+
+
+def test_stable_tolerances_do_not_move_with_one_run():
+    assert stable_up(0.0061) == 0.007 == stable_up(0.0063) and stable_up(0.3) == 0.3
+    assert stable_down(331) == stable_down(330) == 300 and stable_down(7) == 7
+    with pytest.raises(ValueError, match="x"):
+        stable_up(0.0)
+
+
+def test_table1_tables_have_six_columns_at_most():
+    res = {0.0: {"correct": np.array([True] * 10), "converged": np.ones(10, bool), "iterations": np.full(10, 20),
+                 "mode": np.array(["correct"] * 10), "optimal_correct": np.array([True])},
+           5.0: {"correct": np.zeros(10, bool), "converged": np.zeros(10, bool), "iterations": np.full(10, 50),
+                 "mode": np.array(["wandering"] * 10), "optimal_correct": np.array([True])}}
+    t1, t1_tol = table1_readings(res, [10, 9], [19, 20])
+    reps, _, reps_tol = ten_run_replications(res, [10, 9])
+    views = table1_tables(t1, reps, t1_tol, reps_tol)
+    assert set(views) == {"table1", "outcomes", "intervals"}
+    for table, tol in views.values():
+        assert len(table.columns) <= 6 and set(tol) <= set(table.columns)
+    assert views["table1"][0]["paper k/10 (it.)"].tolist() == ["10 (19)", "9 (20)"]
+    assert views["outcomes"][0]["wandering %"].tolist() == [0.0, 100.0]
+    with pytest.raises(ValueError, match="noise levels"):
+        table1_tables(t1, reps.iloc[:1], t1_tol, reps_tol)
