@@ -505,6 +505,6 @@ def plot_fixed_point_bound(bound: Mapping[float, object], cut_book: float, cut_n
     ax.set_xscale("log")
     ax.set_xlabel("cut on max $S$ (pixels) $= c\\,u / A_4$")
     ax.set_ylabel("data sets, %")
-    ax.legend(frameon=False, loc="upper left")
+    ax.legend(frameon=False, loc="center right")
     fig.tight_layout()
     return fig
