@@ -452,3 +452,18 @@ def test_transition_convergence_follows_the_prediction():
     assert (t["unvisited states"] == 0).all()
     with pytest.raises(ValueError, match="sizes"):
         ex.transition_convergence(A, (), 2, np.random.default_rng(0))
+
+
+def test_sensitivity_table_tolerances(slotcar):
+    train, bg, _, _ = slotcar
+    video = make_slotcar_video(60, np.random.default_rng(8))
+    rows, _ = ex.sensitivity_study(train, video, bg, (2, 4), (3,), seed=3)
+    model, _ = ex.fit_slotcar(train, np.random.default_rng(3), n_regions=2, n_prototypes=3, background=bg)
+    assert rows[0]["path step [px]"] == pytest.approx(ex.path_step(model))
+    table, tol = ex.sensitivity_table(rows, 60, 6)
+    step = round(max(r["path step [px]"] for r in rows), 1)
+    assert tol["viterbi error [px]"].atol == pytest.approx(3 * step / 60)
+    assert tol["viterbi error, hidden [px]"].atol == pytest.approx(3 * step / 6)
+    assert list(table.columns)[-1] == "path step [px]"
+    with pytest.raises(ValueError, match="rows"):
+        ex.sensitivity_table([], 60, 6)

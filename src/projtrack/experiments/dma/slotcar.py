@@ -39,6 +39,7 @@ __all__ = [
     "fit_grid_hmm",
     "MapFree",
     "map_free_table",
+    "sensitivity_table",
 ]
 
 
@@ -283,8 +284,8 @@ def sensitivity_study(
     """Viterbi error on one test ``video`` versus the numbers of regions and centroids.
 
     For every ``M`` in ``regions`` and ``K`` in ``prototypes``, :func:`fit_slotcar` (from
-    a fresh ``numpy.random.default_rng(seed)``) and the mean error (px) over all frames
-    and over the hidden ones. Also returns, for ``(M, K) = base``, the mean error of the
+    a fresh ``numpy.random.default_rng(seed)``), the mean error (px) over all frames
+    and over the hidden ones, and the model's :func:`path_step`. Also returns, for ``(M, K) = base``, the mean error of the
     three decoders (``"viterbi"``, ``"smooth"``, ``"filter"``; empty if ``base`` is not in
     the grid). ``regions`` and ``prototypes`` must be non-empty (ValueError otherwise).
     """
@@ -303,7 +304,8 @@ def sensitivity_study(
                                         threshold=threshold, background=background)
             e = np.linalg.norm(model.predict(active, sensor) - truth, axis=1)
             rows.append({"regions": M, "centroids per region": K, "centroids": model.manifold_.n_prototypes,
-                         "viterbi error [px]": float(e.mean()), "viterbi error, hidden [px]": float(e[occ].mean())})
+                         "viterbi error [px]": float(e.mean()), "viterbi error, hidden [px]": float(e[occ].mean()),
+                         "path step [px]": path_step(model)})
             if (M, K) == tuple(base):
                 at_base = {m: float(np.linalg.norm(model.predict(active, sensor, method=m) - truth, axis=1).mean())
                            for m in ("viterbi", "smooth", "filter")}
@@ -534,3 +536,27 @@ def map_free_table(runs: dict[str, list[dict[str, np.ndarray]]], models: dict[st
                                                flips=3, what="frame"),
     }
     return pd.DataFrame(rows), tolerance
+
+
+def sensitivity_table(rows: list[dict[str, object]], n_frames: int, n_hidden: int):
+    """The rows of :func:`sensitivity_study` as a table, with the tolerances of its columns.
+
+    Each error is a mean over one video's ``n_frames`` frames (or its ``n_hidden`` hidden
+    ones) after a Viterbi decoding: a flipped decision re-routes a short stretch of the path
+    through neighbouring centroids, three frames each off by up to the largest
+    :func:`path_step` of the models (:func:`projtrack.tolerance.mean_over`). The path steps
+    come from EM and k-means: numerical. ``rows`` must not be empty and the counts must be
+    ints >= 1 (ValueError otherwise).
+    """
+    import pandas as pd
+
+    if not rows:
+        raise ValueError("rows must not be empty")
+    n_frames = as_count(n_frames, "n_frames")
+    n_hidden = as_count(n_hidden, "n_hidden")
+    table = pd.DataFrame(rows)
+    step = round(float(table["path step [px]"].max()), 1)
+    return table, {"viterbi error [px]": mean_over(n_frames, step, flips=3, what="frame"),
+                   "viterbi error, hidden [px]": mean_over(n_hidden, step, flips=3, what="frame"),
+                   "path step [px]": numerical(rtol=1e-6, why="distances between k-means centroids, which converge "
+                                                             "to 1e-8 far from ties")}

@@ -43,6 +43,7 @@ __all__ = [
     "field_smoother",
     "baseline_trials",
     "rate_spread",
+    "f6_verdict",
 ]
 
 #: Observation row of Example 1.
@@ -464,3 +465,18 @@ def rate_spread(right: object, *, batch: int = 100, first: int = 2) -> dict[str,
     b = per.reshape(-1, batch).mean(axis=1)
     return {"mean": float(per.mean()), "low": float(per.mean() - half), "high": float(per.mean() + half),
             "batch min": float(b.min()), "batch max": float(b.max())}
+
+
+def f6_verdict(row: object) -> str:
+    """The Fig. 6 criterion on one reading of :func:`accuracy_summary` (a dict or a table row).
+
+    ``within-tolerance`` if at least 90% of the runs are perfect after ``t = 2``;
+    ``qualitative`` if at least 50% are and the first two instants are right less often than
+    the later ones (errors concentrate at the start, as the paper says); ``differs`` otherwise.
+    """
+    p = float(row["perfect after t = 2"])  # type: ignore[index]
+    if p >= 0.9:
+        return "within-tolerance"
+    if p >= 0.5 and float(row["right, t = 1-2"]) < float(row["right, t >= 3"]):  # type: ignore[index]
+        return "qualitative"
+    return "differs"
