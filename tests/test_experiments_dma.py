@@ -467,3 +467,17 @@ def test_sensitivity_table_tolerances(slotcar):
     assert list(table.columns)[-1] == "path step [px]"
     with pytest.raises(ValueError, match="rows"):
         ex.sensitivity_table([], 60, 6)
+
+
+def test_median_tolerance_covers_every_row():
+    rng = np.random.default_rng(1)
+    rows = [rng.exponential(scale, size=(12, 20)) for scale in (5.0, 300.0)]
+    tol = ex.median_tolerance(rows)
+    assert tol.kind == "statistical" and tol.atol == 0
+    for e in rows:  # the allowance covers one drive changing arbitrarily, in every row
+        assert tol.rtol * np.median(e) >= ex.median_shift_bound(e)
+    assert (100 * tol.rtol).is_integer()
+    with pytest.raises(ValueError, match="one"):
+        ex.median_tolerance([])
+    with pytest.raises(ValueError, match="zero"):
+        ex.median_tolerance([np.zeros((3, 4))])

@@ -19,6 +19,7 @@ from projtrack.dma import RangeCosineSensor, estimate_transitions, log_transitio
 from projtrack.experiments.dma.decoding import decode_all
 from projtrack.montecarlo import run
 from projtrack.stable import fmt
+from projtrack.tolerance import Tolerance, statistical
 from projtrack.scenes.roads import DirectedStates, RoadScene, make_road_scene
 
 __all__ = [
@@ -33,6 +34,7 @@ __all__ = [
     "ROAD_STATES",
     "ROAD_NOISE",
     "median_shift_bound",
+    "median_tolerance",
     "reading_study",
 ]
 
@@ -366,3 +368,25 @@ def reading_study(
                      "m per sample": float(speed * dt), "median error [m]": med, "lost share": float(lost.mean()),
                      "follows": bool(med < 20 and lost.mean() <= 0.1)})
     return rows, errors
+
+
+def median_tolerance(errors: list) -> Tolerance:
+    """The tolerance of a column of median errors, one ``(n_drives, n_steps)`` array per row.
+
+    One drive whose Viterbi path changes moves a row's median by at most
+    :func:`median_shift_bound`; the tolerance is that bound relative to the row's median, the
+    largest over the rows (rounded up to a whole percent), so every row is covered and rows
+    with small medians keep a small allowance. ``errors`` must not be empty and no median may
+    be zero (ValueError otherwise).
+    """
+    if not errors:
+        raise ValueError("errors must hold one (n_drives, n_steps) array per row")
+    ratios = []
+    for e in errors:
+        med = float(np.median(_errors(e)))
+        if med <= 0:
+            raise ValueError("a median error of zero cannot carry a relative tolerance")
+        ratios.append(median_shift_bound(e) / med)
+    rtol = float(np.ceil(100 * max(ratios)) / 100)
+    return statistical(rtol=rtol, why=f"one drive's Viterbi path changing moves a median of all its instants by at "
+                                      f"most n_steps order statistics: at most {rtol:.0%} of the median in every row")
