@@ -40,6 +40,7 @@ __all__ = [
     "MapFree",
     "map_free_table",
     "sensitivity_table",
+    "covering_tolerance",
 ]
 
 
@@ -538,15 +539,30 @@ def map_free_table(runs: dict[str, list[dict[str, np.ndarray]]], models: dict[st
     return pd.DataFrame(rows), tolerance
 
 
+def covering_tolerance(required: object, values: object, why: str) -> Tolerance:
+    """The tightest ``atol + rtol |value|`` that allows at least ``required[i]`` at ``values[i]``
+    in every row: ``atol`` the smallest requirement, ``rtol`` the largest share of a value the
+    rest of its requirement takes. ``required`` and ``values`` are equal-length sequences of
+    finite numbers > 0 (ValueError otherwise)."""
+    req = as_array(required, "required", ndim=1, allow_empty=False)
+    val = as_array(values, "values", ndim=1, shape=req.shape)
+    if (req <= 0).any() or (val <= 0).any():
+        raise ValueError("required and values must be > 0")
+    atol = float(req.min())
+    rtol = float(np.max((req - atol) / val))
+    return statistical(atol=atol, rtol=rtol, why=why)
+
+
 def sensitivity_table(rows: list[dict[str, object]], n_frames: int, n_hidden: int):
     """The rows of :func:`sensitivity_study` as a table, with the tolerances of its columns.
 
     Each error is a mean over one video's ``n_frames`` frames (or its ``n_hidden`` hidden
     ones) after a Viterbi decoding: a flipped decision re-routes a short stretch of the path
-    through neighbouring centroids, three frames each off by up to the largest
-    :func:`path_step` of the models (:func:`projtrack.tolerance.mean_over`). The path steps
-    come from EM and k-means: numerical. ``rows`` must not be empty and the counts must be
-    ints >= 1 (ValueError otherwise).
+    through neighbouring centroids, three frames each off by up to the row's :func:`path_step`,
+    so a row may move by ``3 step / n`` (:func:`projtrack.tolerance.mean_over`). The column's
+    tolerance covers every row's allowance (:func:`covering_tolerance`). The path steps come
+    from EM and k-means: numerical. ``rows`` must not be empty and the counts must be ints
+    >= 1 (ValueError otherwise).
     """
     import pandas as pd
 
@@ -555,8 +571,12 @@ def sensitivity_table(rows: list[dict[str, object]], n_frames: int, n_hidden: in
     n_frames = as_count(n_frames, "n_frames")
     n_hidden = as_count(n_hidden, "n_hidden")
     table = pd.DataFrame(rows)
-    step = round(float(table["path step [px]"].max()), 1)
-    return table, {"viterbi error [px]": mean_over(n_frames, step, flips=3, what="frame"),
-                   "viterbi error, hidden [px]": mean_over(n_hidden, step, flips=3, what="frame"),
-                   "path step [px]": numerical(rtol=1e-6, why="distances between k-means centroids, which converge "
-                                                             "to 1e-8 far from ties")}
+    step = table["path step [px]"].to_numpy(dtype=float)
+    tol: dict[str, Tolerance] = {}
+    for col, n in (("viterbi error [px]", n_frames), ("viterbi error, hidden [px]", n_hidden)):
+        tol[col] = covering_tolerance(3 * step / n, table[col].to_numpy(dtype=float),
+                                      f"a mean over {n} frames: a flipped Viterbi decision moves three frames by up "
+                                      "to the model's path step, 3 x step / n in each row, covered row by row")
+    tol["path step [px]"] = numerical(rtol=1e-6, why="distances between k-means centroids, which converge to 1e-8 "
+                                                     "far from ties")
+    return table, tol
