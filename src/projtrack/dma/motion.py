@@ -155,6 +155,7 @@ def transitions_from_velocity_field(
     n_next: int = 2,
     project: object | None = None,
     exclude_self: bool = False,
+    width: float | None = None,
 ) -> sp.csr_array:
     """Markov chain on prototypes from a known velocity field (Example 1, Figure 6a).
 
@@ -162,8 +163,8 @@ def transitions_from_velocity_field(
     mapped by ``project``, e.g. back onto the sphere). The allowed transitions go to the
     ``n_next`` prototypes nearest to ``p_l`` (with ``n_next = 2``, "transitions to one
     of two consecutive states" as in Fig. 3), with probabilities proportional to
-    ``exp(-d^2 / (2 s^2))``, ``d`` the distance to ``p_l`` and ``s`` the median
-    nearest-neighbour spacing of the prototypes.
+    ``exp(-d^2 / (2 s^2))``, ``d`` the distance to ``p_l`` and ``s`` the weight width
+    (``width``; by default the median nearest-neighbour spacing of the prototypes).
 
     With ``exclude_self`` the prototype ``u_l`` itself is never a successor (no
     self-loops: the point always moves). ``n_next = 1, exclude_self = True`` gives the
@@ -184,6 +185,9 @@ def transitions_from_velocity_field(
         ``project(points) -> points`` applied to the predicted points.
     exclude_self : bool, default False
         Leave each prototype out of its own successors.
+    width : float, optional
+        Width ``s`` of the Gaussian weights (> 0); default the median nearest-neighbour
+        spacing of ``points``.
 
     Returns
     -------
@@ -208,7 +212,8 @@ def transitions_from_velocity_field(
     if project is not None:
         pred = np.asarray(project(pred), dtype=float)
     tree = cKDTree(P)
-    spacing = float(np.median(tree.query(P, k=2)[0][:, 1]))
+    spacing = float(np.median(tree.query(P, k=2)[0][:, 1])) if width is None else as_real(width, "width", 0,
+                                                                                             low_open=True)
     if exclude_self:
         d, idx = tree.query(pred, k=k + 1)
         d, idx = d.reshape(S, k + 1), idx.reshape(S, k + 1)
