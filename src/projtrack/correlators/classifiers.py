@@ -149,7 +149,8 @@ class ProjectionCorrelationClassifier(CorrelationFilterBank):
     >>> from projtrack.correlators import ProjectionCorrelationClassifier
     >>> L = np.zeros((12, 12)); L[2:10, 3] = 1; L[9, 3:9] = 1
     >>> T = np.zeros((12, 12)); T[2, 2:10] = 1; T[2:10, 6] = 1
-    >>> O = np.zeros((12, 12)); O[2:10, 2] = O[2:10, 9] = O[2, 2:10] = O[9, 2:10] = 1
+    >>> O = np.zeros((12, 12))
+    >>> O[2:10, 2] = O[2:10, 9] = O[2, 2:10] = O[9, 2:10] = 1
     >>> clf = ProjectionCorrelationClassifier(angles=(0, 90))
     >>> clf = clf.fit(np.stack([L, T, O]), ["L", "T", "O"])
     >>> rng = np.random.default_rng(0)
@@ -157,7 +158,7 @@ class ProjectionCorrelationClassifier(CorrelationFilterBank):
     ...               for a in (L, T, O)])
     >>> clf.predict(X)
     array(['L', 'T', 'O'], dtype='<U1')
-    >>> np.round(clf.decision_function(X[:1]), 2)    # columns: classes_ ("L", "O", "T")
+    >>> np.round(clf.decision_function(X[:1]), 2)  # classes_ L, O, T
     array([[1.8 , 1.4 , 1.58]])
     """
 

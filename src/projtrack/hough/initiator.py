@@ -109,7 +109,8 @@ class TrackInitiator:
     >>> import numpy as np
     >>> from projtrack.hough import TrackInitiator
     >>> times = np.arange(16) * 0.1                      # T = 0.1 s
-    >>> start, vel = np.array([[40., 30], [200, 40]]), np.array([[40., 60], [-50, 70]])
+    >>> start = np.array([[40., 30], [200, 40]])
+    >>> vel = np.array([[40., 60], [-50, 70]])
     >>> frames = [start + vel * t for t in times]        # one (x, y) row per target
     >>> init = TrackInitiator(refine=True)
     >>> tracks = init.initiate(frames, times, (256, 256))

@@ -117,7 +117,7 @@ def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,
     Examples
     --------
     >>> from projtrack.hough import find_peaks, hough_transform
-    >>> pts = [(128 + t, 100) for t in range(-20, 21, 4)]   # horizontal line y = 100
+    >>> pts = [(128 + t, 100) for t in range(-20, 21, 4)]  # the line y = 100
     >>> H, rhos, thetas = hough_transform(pts, (256, 256))
     >>> float(H.max()), H.shape
     (11.0, (183, 180))

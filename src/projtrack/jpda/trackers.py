@@ -184,7 +184,7 @@ class JPDATracker:
            [ 5.1, -5. ]])
     >>> trk.covariances.shape, np.round(np.sqrt(trk.covariances[:, 0, 0]), 2)
     ((2, 4, 4), array([0.25, 0.24]))
-    >>> trk.last_beta_.shape                 # rows: no measurement, then the 4 measurements
+    >>> trk.last_beta_.shape   # rows: no measurement, then 4 measurements
     (5, 2)
     """
 
