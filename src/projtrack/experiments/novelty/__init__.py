@@ -23,7 +23,8 @@ from .plots import plot_block_diagram, plot_fig2_panels, plot_fig3_panels
 from .printed import (PRINTED_V1, PRINTED_V2, energy_ratios_needed, frame4_table, frame8_table,
                       frame_pair, local_change_novelty, local_change_novelty_bound, min_energy_share,
                       novelty_from_vip, second_fraction, second_fraction_closed_form)
-from .summaries import CLAIMS, claim_shares, claim_table, real_claims, share_tolerance, verdict
+from .summaries import (CLAIMS, claim_shares, claim_table, medians, real_claims, real_table, share_tolerance,
+                        shares_text, verdict)
 from .realvideo import (calibrate_real, contrast_scaled, energy_kept_table, max_second_fraction,
                         median_background, rank_margin, residual_location)
 from .routes import (eq12_forms, near_duplicate_study, route_errors, streaming_comparison, vip_ranks,
@@ -47,7 +48,8 @@ __all__ = [
     "calibrate_gain", "calibrate_contrast", "calibrate_readings", "frame2_quiet", "ghost_rms",
     "memory_updates", "novel_pixel_quality", "sequence_readings", "reading_draw", "reading_draws",
     "threshold_sweep", "ghost_decay",
-    "CLAIMS", "claim_shares", "claim_table", "real_claims", "verdict", "share_tolerance",
+    "CLAIMS", "claim_shares", "claim_table", "medians", "real_claims", "real_table", "shares_text", "verdict",
+    "share_tolerance",
     # real video
     "median_background", "residual_location", "contrast_scaled", "calibrate_real",
     "max_second_fraction", "rank_margin", "energy_kept_table",

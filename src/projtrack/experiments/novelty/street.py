@@ -35,19 +35,11 @@ from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.novelty import FrameRecord, NoveltyFilter, process_sequence
 from projtrack.scenes.sequences import walking_layers, walking_sequence
 
-__all__ = [
-    "FIG2_SETTINGS",
-    "FIG3_SETTINGS",
-    "PIXEL_THRESHOLD",
-    "ghost_area",
-    "order_2_4",
-    "entry_marked",
-    "record_table",
-    "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "novelty_against_first",
-           "calibrate_gain", "calibrate_contrast", "calibrate_readings", "frame2_quiet",
-           "ghost_rms", "memory_updates", "novel_pixel_quality", "sequence_readings",
-           "reading_draw", "reading_draws", "threshold_sweep", "ghost_decay"
-]
+__all__ = ["FIG2_SETTINGS", "FIG3_SETTINGS", "PIXEL_THRESHOLD", "ghost_area", "order_2_4", "entry_marked",
+           "record_table", "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS",
+           "novelty_against_first", "calibrate_gain", "calibrate_contrast", "calibrate_readings",
+           "frame2_quiet", "ghost_rms", "memory_updates", "novel_pixel_quality", "sequence_readings",
+           "reading_draw", "reading_draws", "threshold_sweep", "ghost_decay"]
 
 #: ``(T_d, T_I)`` of Fig. 2 and of Fig. 3.
 FIG2_SETTINGS: tuple[float, float] = (0.002, 0.95)
@@ -140,23 +132,23 @@ PRINTED_RMS: float = float(np.sqrt(73544016.0 / 128 ** 2))
 NOISE_STD: float = 1.2
 
 _LATER = tuple(range(4, 25))
-#: The readings of what the text leaves open (keyword arguments of ``walking_sequence``): the
-#: walkers' speed (px per frame) and the frames out of sync with frame 1 (frame 2 always,
-#: frame 3 never; the later frames all in sync or all out of sync).
+#: The readings of what the text leaves open (keyword arguments of ``walking_sequence``), named
+#: by the walkers' speed (px per frame) and the frames after frame 3 (all in sync with frame 1,
+#: or all out of sync; frame 2 is always out of sync, frame 3 never).
 READINGS: dict[str, dict[str, Any]] = {
-    "1 px/frame, later frames in sync": dict(background_speed=1.0, jitter_frames=(2,)),
-    "2 px/frame, later frames in sync": dict(background_speed=2.0, jitter_frames=(2,)),
-    "1 px/frame, later frames out of sync": dict(background_speed=1.0, jitter_frames=(2, *_LATER)),
-    "2 px/frame, later frames out of sync": dict(background_speed=2.0, jitter_frames=(2, *_LATER)),
+    "1 px, later in sync": dict(background_speed=1.0, jitter_frames=(2,)),
+    "2 px, later in sync": dict(background_speed=2.0, jitter_frames=(2,)),
+    "1 px, later out of sync": dict(background_speed=1.0, jitter_frames=(2, *_LATER)),
+    "2 px, later out of sync": dict(background_speed=2.0, jitter_frames=(2, *_LATER)),
 }
 #: Readings that contradict a sentence of the text, shown as a sensitivity and not judged on: no
 #: frame out of sync (the text blames frame 2's novel background pixels on a synchronization
 #: difference) or every frame out of sync (frame 3 "was synchronized with frame 1").
 CONTRARY_READINGS: dict[str, dict[str, Any]] = {
-    "1 px/frame, no frame out of sync": dict(background_speed=1.0, jitter=0.0),
-    "2 px/frame, no frame out of sync": dict(background_speed=2.0, jitter=0.0),
-    "1 px/frame, every frame out of sync": dict(background_speed=1.0),
-    "2 px/frame, every frame out of sync": dict(background_speed=2.0),
+    "1 px, none out of sync": dict(background_speed=1.0, jitter=0.0),
+    "2 px, none out of sync": dict(background_speed=2.0, jitter=0.0),
+    "1 px, all out of sync": dict(background_speed=1.0),
+    "2 px, all out of sync": dict(background_speed=2.0),
 }
 
 

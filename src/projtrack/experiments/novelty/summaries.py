@@ -20,7 +20,8 @@ import pandas as pd
 from projtrack._validation import as_int, as_probability
 from projtrack.tolerance import Tolerance, share
 
-__all__ = ["CLAIMS", "claim_shares", "claim_table", "real_claims", "verdict", "share_tolerance"]
+__all__ = ["CLAIMS", "claim_shares", "claim_table", "medians", "real_claims", "real_table", "shares_text",
+           "verdict", "share_tolerance"]
 
 
 def _clean_first(d: pd.DataFrame) -> pd.Series:
@@ -46,6 +47,9 @@ CLAIMS: dict[str, Callable[[pd.DataFrame], pd.Series]] = {
 }
 
 
+_NEED_TRUTH = ("better novelty data", "person remembered longer")
+
+
 def claim_shares(draws: pd.DataFrame, claims: Any = None) -> dict[str, float]:
     """The share of the draws (rows of :func:`~projtrack.experiments.novelty.reading_draws`) that show each claim."""
     if not isinstance(draws, pd.DataFrame) or len(draws) == 0:
@@ -60,25 +64,54 @@ def claim_shares(draws: pd.DataFrame, claims: Any = None) -> dict[str, float]:
 def real_claims(readings: Mapping[str, Any], claims: Any = None) -> dict[str, bool]:
     """Whether one real sequence (a dict of :func:`~projtrack.experiments.novelty.sequence_readings`)
     shows each claim; claims that need ground truth (the memories, the F1 scores) are left out."""
-    d = pd.DataFrame([dict(readings)])
-    names = list(CLAIMS) if claims is None else list(claims)
-    out = {}
-    for c in names:
-        v = CLAIMS[c](d).iloc[0]
-        needs_truth = c in ("better novelty data", "person remembered longer")
-        if not needs_truth:
-            out[c] = bool(v)
-    return out
+    d = pd.DataFrame([{k: v for k, v in dict(readings).items() if np.ndim(v) == 0}])
+    names = [c for c in (CLAIMS if claims is None else claims) if c not in _NEED_TRUTH]
+    return {c: bool(CLAIMS[c](d).iloc[0]) for c in names}
 
 
 def claim_table(shares: Mapping[str, Mapping[str, float]], claims: Any,
-                extra: Mapping[str, Mapping[str, float]] | None = None) -> pd.DataFrame:
-    """One row per reading: the share of its draws showing each claim (and any ``extra`` columns)."""
+                extra: Mapping[str, Mapping[str, Any]] | None = None, readings: Any = None) -> pd.DataFrame:
+    """One row per reading: the share of its draws showing each claim, then any ``extra`` columns.
+
+    Parameters
+    ----------
+    shares : mapping
+        Reading -> :func:`claim_shares`.
+    claims : sequence of str
+        The claims, one column each.
+    extra : mapping, optional
+        Column name -> (reading -> value), e.g. from :func:`medians`.
+    readings : sequence of str, optional
+        The readings to show, in order (default: all of ``shares``).
+    """
+    names = list(shares) if readings is None else list(readings)
+    return pd.DataFrame([{"reading": r, **{c: shares[r][c] for c in claims},
+                          **{col: vals[r] for col, vals in (extra or {}).items()}} for r in names])
+
+
+def medians(draws: Mapping[str, pd.DataFrame], columns: Mapping[str, str], readings: Any = None
+            ) -> dict[str, dict[str, float]]:
+    """Column label -> (reading -> the median over the reading's draws of a column of its draws)."""
+    names = list(draws) if readings is None else list(readings)
+    return {label: {r: float(draws[r][col].median()) for r in names} for label, col in columns.items()}
+
+
+def real_table(runs: Mapping[str, Mapping[str, Any]], claims: Any,
+               extra: Mapping[str, Mapping[str, Any]] | None = None) -> pd.DataFrame:
+    """One row per real video: whether it shows each claim ("yes"/"no"; claims that need ground truth are
+    left out, see :func:`real_claims`), then any ``extra`` columns."""
     rows = []
-    for name, s in shares.items():
-        rows.append({"reading": name, **{c: s[c] for c in claims},
-                     **({} if extra is None else dict(extra.get(name, {})))})
+    for name, run in runs.items():
+        seen = real_claims(run, claims)
+        rows.append({"video": name, **{c: "yes" if seen[c] else "no" for c in claims if c in seen},
+                     **{col: vals[name] for col, vals in (extra or {}).items()}})
     return pd.DataFrame(rows)
+
+
+def shares_text(shares: Mapping[str, float], readings: Any = None) -> str:
+    """The shares of several readings as ``"0.700 / 0.300 / ..."`` (three decimals), in reading order."""
+    names = list(shares) if readings is None else list(readings)
+    return " / ".join(f"{shares[r]:.3f}" for r in names)
 
 
 def verdict(synthetic: Mapping[str, float], real: Mapping[str, bool] | None = None, n_draws: int = 1,
