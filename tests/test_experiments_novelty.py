@@ -429,7 +429,8 @@ def test_verdict_rule_and_its_edge():
 # --- aircraft additions -------------------------------------------------------------------------
 def test_effective_rank_curve_and_threshold_sweep(toy_classes):
     train, tests, bases = toy_classes
-    curve = ex.effective_rank_curve(tests, bases, (0.0, 50.0), 2, np.random.default_rng(0), m_max=3)
+    curve = ex.effective_rank_curve(tests, bases, (0.0, 50.0), 2, 0, m_max=3)
+    pd.testing.assert_frame_equal(curve, ex.effective_rank_curve(tests, bases, (0.0, 50.0), 2, 0, m_max=3))
     assert list(curve["sigma"]) == [0.0, 50.0]
     assert curve.loc[0, "recognized, best m"] == 12.0 and curve.loc[0, "effective rank"] == 1
     assert curve["three suffice"].dtype == bool

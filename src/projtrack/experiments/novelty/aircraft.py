@@ -212,12 +212,12 @@ def classifier_noise_draw(rng: np.random.Generator, classifiers: Sequence[Novelt
 
 
 def effective_rank_curve(tests: Mapping[str, np.ndarray], bases: Mapping[str, KLBasis],
-                         sigmas: Sequence[float], n_draws: int, rng: np.random.Generator,
-                         m_max: int = 8, *, n_jobs: int | None = None) -> pd.DataFrame:
+                         sigmas: Sequence[float], n_draws: int, seed: int, m_max: int = 8,
+                         *, n_jobs: int | None = None) -> pd.DataFrame:
     """The effective rank (:func:`effective_rank`) as a function of the noise ``sigma``.
 
-    Every ``sigma`` uses the same noise draws (children of ``rng``, scaled), so the curve moves
-    with ``sigma`` only.
+    Every ``sigma`` uses the same noise draws (the children of
+    ``numpy.random.default_rng(seed)``, scaled), so the curve moves with ``sigma`` only.
 
     Returns
     -------
@@ -227,13 +227,12 @@ def effective_rank_curve(tests: Mapping[str, np.ndarray], bases: Mapping[str, KL
         eigenimages do as well as the best ``m`` (within one test image).
     """
     n_draws = as_int(n_draws, "n_draws", minimum=1)
+    seed = as_int(seed, "seed", minimum=0)
     total = sum(len(t) for t in tests.values())
-    state = as_rng(rng).bit_generator.state
     rows = []
     for s in sigmas:
-        g = np.random.default_rng()
-        g.bit_generator.state = state
-        rate = noise_rate_draws(tests, bases, s, n_draws, g, m_max, n_jobs=n_jobs).mean(axis=0)
+        rate = noise_rate_draws(tests, bases, s, n_draws, np.random.default_rng(seed), m_max,
+                                n_jobs=n_jobs).mean(axis=0)
         rows.append({"sigma": float(s), "recognized, m = 1": float(total * rate[0]),
                      "recognized, best m": float(total * rate.max()),
                      "effective rank": effective_rank(rate, total),
