@@ -15,22 +15,21 @@ from __future__ import annotations
 from .aircraft import (classifier_noise_draw, effective_rank, effective_rank_curve, info_rank,
                        mean_image_correct, noise_rate_draws, noisy_rates, novelty_table,
                        rank_claim_table, recognized, threshold_sweep as aircraft_threshold_sweep)
-from .street import (CONTRARY_READINGS, NOISE_STD, PRINTED_RMS, READINGS, calibrate_contrast,
-                         calibrate_gain, calibrate_readings, frame2_quiet, ghost_decay, ghost_rms,
-                         memory_updates, novel_pixel_quality, novelty_against_first, reading_draw,
-                         reading_draws, sequence_readings, threshold_sweep)
 from .plots import plot_block_diagram, plot_fig2_panels, plot_fig3_panels
 from .printed import (PRINTED_V1, PRINTED_V2, energy_ratios_needed, frame4_table, frame8_table,
                       frame_pair, local_change_novelty, local_change_novelty_bound, min_energy_share,
                       novelty_from_vip, second_fraction, second_fraction_closed_form)
-from .summaries import (CLAIMS, claim_shares, claim_table, medians, real_claims, real_table, share_tolerance,
-                        shares_text, verdict)
 from .realvideo import (calibrate_real, contrast_scaled, energy_kept_table, max_second_fraction,
                         median_background, rank_margin, residual_location)
 from .routes import (eq12_forms, near_duplicate_study, route_errors, streaming_comparison, vip_ranks,
                      vip_vs_large)
-from .street import (FIG2_SETTINGS, FIG3_SETTINGS, PIXEL_THRESHOLD, entry_marked, ghost_area,
-                     order_2_4, record_table)
+from .street import (CONTRARY_READINGS, FIG2_SETTINGS, FIG3_SETTINGS, NOISE_STD, PIXEL_THRESHOLD,
+                     PRINTED_RMS, READINGS, VISIBILITY_THRESHOLDS, calibrate_contrast, calibrate_gain,
+                     calibrate_readings, entry_marked, frame2_quiet, ghost_area, ghost_decay, ghost_rms,
+                     memory_updates, novel_pixel_quality, novelty_against_first, order_2_4, reading_draw,
+                     reading_draws, record_table, sequence_readings, threshold_sweep)
+from .summaries import (CLAIMS, claim_shares, claim_table, medians, real_claims, real_table, share_tolerance,
+                        shares_text, verdict)
 
 __all__ = [
     # routes and equations
@@ -44,7 +43,7 @@ __all__ = [
     "novelty_from_vip", "frame4_table", "frame8_table", "energy_ratios_needed",
     "local_change_novelty_bound", "local_change_novelty", "min_energy_share",
     # calibrated scene and readings
-    "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "novelty_against_first",
+    "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "VISIBILITY_THRESHOLDS", "novelty_against_first",
     "calibrate_gain", "calibrate_contrast", "calibrate_readings", "frame2_quiet", "ghost_rms",
     "memory_updates", "novel_pixel_quality", "sequence_readings", "reading_draw", "reading_draws",
     "threshold_sweep", "ghost_decay",

@@ -36,7 +36,7 @@ from projtrack.novelty import FrameRecord, NoveltyFilter, process_sequence
 from projtrack.scenes.sequences import walking_layers, walking_sequence
 
 __all__ = ["FIG2_SETTINGS", "FIG3_SETTINGS", "PIXEL_THRESHOLD", "ghost_area", "order_2_4", "entry_marked",
-           "record_table", "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS",
+           "record_table", "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "VISIBILITY_THRESHOLDS",
            "novelty_against_first", "calibrate_gain", "calibrate_contrast", "calibrate_readings",
            "frame2_quiet", "ghost_rms", "memory_updates", "novel_pixel_quality", "sequence_readings",
            "reading_draw", "reading_draws", "threshold_sweep", "ghost_decay"]
@@ -347,6 +347,9 @@ def novel_pixel_quality(recs: Sequence[FrameRecord], masks: Any, start: int) -> 
 
 
 _GHOST_FRAMES = (10, 20)
+#: Higher thresholds than ``T_f`` at which a ghost in the first eigenimage may count as visible
+#: (``T_f`` is the paper's threshold for the novel-pixel display, not for the eigenimage itself).
+VISIBILITY_THRESHOLDS: tuple[float, ...] = (12.0, 16.0)
 
 
 def sequence_readings(frames: Any, background: Any, masks: Any, entry: int = 8,
@@ -376,10 +379,11 @@ def sequence_readings(frames: Any, background: Any, masks: Any, entry: int = 8,
         (Fig. 2)``, ``updates (Fig. 2)``; Fig. 3 settings: ``max kept (Fig. 3)``, ``second at 8``
         (one eigenimage at every frame before the entry, two at it), ``updates (Fig. 3)``; the
         visible-ghost areas (:func:`~projtrack.experiments.novelty.ghost_area`) of the first
-        eigenimage under both settings and of frame 1 at frames 10 and 20; the background error
+        eigenimage under both settings and of frame 1 at frames 10 and 20 (and, with the suffix
+        ``T_f 12`` or ``T_f 16``, at the :data:`VISIBILITY_THRESHOLDS`); the background error
         (:func:`ghost_rms` on the people's paths) of the first eigenimage under both settings
         there; the memories (:func:`memory_updates`, Fig. 2 settings) of the entering person and
-        of the other walkers; the F1 scores (:func:`novel_pixel_quality`) from the entry on.
+        of the other walkers (also at the :data:`VISIBILITY_THRESHOLDS`); the F1 scores (:func:`novel_pixel_quality`) from the entry on.
     """
     f = as_array(frames, "frames", ndim=3)
     bg = as_array(background, "background", shape=f.shape[1:])
@@ -407,15 +411,21 @@ def sequence_readings(frames: Any, background: Any, masks: Any, entry: int = 8,
         for label, img in (("Fig. 3", r3[j - 1].first_eigenimage), ("Fig. 2", r2[j - 1].first_eigenimage),
                            ("frame 1", f[0])):
             out[f"ghost {j}, {label}"] = ghost_area(img, bg, paths, area, pixel_threshold)
+        for t in VISIBILITY_THRESHOLDS:           # how visible a ghost must be: higher thresholds
+            for label, img in (("Fig. 3", r3[j - 1].first_eigenimage), ("frame 1", f[0])):
+                out[f"ghost {j}, {label}, T_f {t:g}"] = ghost_area(img, bg, paths, area, t)
         for label, recs in (("Fig. 3", r3), ("Fig. 2", r2)):
             out[f"background error {j}, {label}"] = ghost_rms(recs[j - 1].first_eigenimage, bg, paths)
     if person_masks is None:
         out.update({"memory, person": np.nan, "memory, walkers": np.nan, "F1 (Fig. 2)": np.nan,
-                    "F1 (Fig. 3)": np.nan})
+                    "F1 (Fig. 3)": np.nan, **{f"memory, {who}, T_f {t:g}": np.nan for t in VISIBILITY_THRESHOLDS
+                                              for who in ("person", "walkers")}})
     else:
         pm = np.asarray(person_masks, dtype=bool)
         out.update({"memory, person": memory_updates(r2, pm, m, bg, pixel_threshold),
                     "memory, walkers": memory_updates(r2, m & ~pm, m, bg, pixel_threshold),
+                    **{f"memory, {who}, T_f {t:g}": memory_updates(r2, mask, m, bg, t)
+                       for t in VISIBILITY_THRESHOLDS for who, mask in (("person", pm), ("walkers", m & ~pm))},
                     "F1 (Fig. 2)": novel_pixel_quality(r2, m, entry),
                     "F1 (Fig. 3)": novel_pixel_quality(r3, m, entry)})
     return out
