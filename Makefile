@@ -60,9 +60,13 @@ book: figures
 unit: $(STAMP)
 	@echo "==> the package's import layers (lint-imports, contracts in pyproject.toml)"
 	$(VENV)/bin/lint-imports --no-cache
-	@echo "==> unit and property tests"
+	@echo "==> unit and property tests (with the wheel installed in a clean venv)"
 	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py \
 		--ignore=tests/browser
+	@echo "==> the examples in the docstrings of the algorithm packages (doctest)"
+	$(PY) -m pytest -q -p no:cacheprovider --doctest-modules src/projtrack/ellipsoids src/projtrack/dma \
+		src/projtrack/correlators src/projtrack/hough src/projtrack/jpda src/projtrack/neuralnet \
+		src/projtrack/novelty
 
 NBVAL = $(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
 	--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \
@@ -116,7 +120,9 @@ browsercheck: $(STAMP) browser-deps
 		echo "!! Install Debian's chromium and chromium-driver: apt-get install chromium chromium-driver"; \
 		echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"; \
 	fi
-	$(PY) -m pytest -p no:cacheprovider -q -rs tests/browser
+	@rm -f .cache/reading.txt; status=0; $(PY) -m pytest -p no:cacheprovider -q -rs tests/browser || status=$$?; \
+	if [ -f .cache/reading.txt ]; then echo "==> how the book reads (visible words, code lines, first figure):"; \
+	cat .cache/reading.txt; fi; exit $$status
 
 # The two nbval runs are independent (each kernel uses one BLAS thread, each run writes
 # its figures to its own temporary folder), so they run side by side on two cores; their

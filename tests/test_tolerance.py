@@ -191,8 +191,7 @@ def test_save_table_writes_the_manifest_beside_the_csv(figdir):
     assert read_manifest(saved.path).columns["error"].atol == pytest.approx(tol.atol, rel=1e-2)
 
 
-def test_save_table_refuses_undeclared_floats_when_required(figdir, monkeypatch):
-    monkeypatch.setattr(figures, "REQUIRE_TOLERANCE", True)
+def test_save_table_refuses_undeclared_floats(figdir):
     df = pd.DataFrame({"n": [1, 2], "x": [0.5, 0.25]})
     with pytest.raises(ValueError, match=r"\['x'\] hold non-integer numbers"):
         figures.save_table(df, "p/t")

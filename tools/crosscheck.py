@@ -282,26 +282,36 @@ def report(args: argparse.Namespace, names: list[str] | None = None) -> int:
             key = (m["where"], m["expected"], m["actual"])
             entry = moves.setdefault(key, {**m, "configs": []})
             entry["configs"].append(folder.name)
-    lines += ["", f"## Every compared number that moved ({len(moves)})", "",
-              "Sorted by the share of its tolerance it used (`delta / allowed`; an exact number or a "
-              "changed text has no allowance). `ok` says whether the test accepts it.", "",
-              "| where | committed | this run | delta | allowed | used | ok | tolerance | configurations |",
-              "|---|---|---|---|---|---|---|---|---|"]
+    compared = {k: m for k, m in moves.items() if "not compared by nbval" not in m["tolerance"]}
+    ignored = {k: m for k, m in moves.items() if k not in compared}
 
     def used(m: dict) -> float:
         if m["delta"] == 0:
             return 0.0
         return math.inf if not m["allowed"] else m["delta"] / m["allowed"]
 
-    for m in sorted(moves.values(), key=lambda m: (-used(m), m["where"])):
-        u = used(m)
-        lines.append(f"| {m['where']} | {m['expected']} | {m['actual']} | {m['delta']:.3g} | {m['allowed']:.3g} | "
-                     f"{'—' if math.isinf(u) else f'{u:.0%}'} | {'yes' if m['ok'] else '**no**'} | "
-                     f"{m['tolerance']} | {len(m['configs'])}: {', '.join(m['configs'][:4])}"
-                     f"{' ...' if len(m['configs']) > 4 else ''} |")
+    def table(entries: dict) -> list[str]:
+        out = ["| where | committed | this run | delta | allowed | used | ok | tolerance | configurations |",
+               "|---|---|---|---|---|---|---|---|---|"]
+        for m in sorted(entries.values(), key=lambda m: (-used(m), m["where"])):
+            u = used(m)
+            out.append(f"| {m['where']} | {m['expected']} | {m['actual']} | {m['delta']:.3g} | {m['allowed']:.3g} | "
+                       f"{'—' if math.isinf(u) else f'{u:.0%}'} | {'yes' if m['ok'] else '**no**'} | "
+                       f"{m['tolerance']} | {len(m['configs'])}: {', '.join(m['configs'][:4])}"
+                       f"{' ...' if len(m['configs']) > 4 else ''} |")
+        return out
+
+    lines += ["", f"## Every compared number that moved ({len(compared)})", "",
+              "Tables, scorecards, figures and the text nbval compares, sorted by the share of its tolerance "
+              "each move used (`delta / allowed`; an exact number or a changed text has no allowance). `ok` says "
+              "whether the tests accept it.", "", *table(compared), "",
+              f"## Outputs of cells left out of nbval that changed ({len(ignored)})", "",
+              "Cells marked `# NBVAL_IGNORE_OUTPUT` (timings, or statistical numbers glued into the text whose "
+              "table is compared above): listed so that a number that reaches the page without a compared table "
+              "can be spotted.", "", *table(ignored)]
     text = "\n".join(lines) + "\n"
     (OUT / "report.md").write_text(text)
-    head = lines[: 6 + len(folders) + 30]
+    head = lines[: 8 + len(folders) + min(len(compared), 20) + 4]
     print("\n".join(head))
     if len(lines) > len(head):
         print(f"... the whole report: {OUT / 'report.md'}")

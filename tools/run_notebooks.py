@@ -48,6 +48,15 @@ def toc_notebooks() -> list[Path]:
     return found
 
 
+#: Pages that read the committed scorecards of every chapter: run after the chapters.
+SUMMARIES = ("intro.ipynb", "summary.ipynb")
+
+
+def run_order(notebooks: list[Path]) -> list[Path]:
+    """The notebooks in toc order, with the pages that summarize the scorecards last."""
+    return [p for p in notebooks if p.name not in SUMMARIES] + [p for p in notebooks if p.name in SUMMARIES]
+
+
 def execute(path: Path, timeout: int) -> float:
     nb = nbformat.read(path, as_version=4)
     with tempfile.TemporaryDirectory(prefix="projtrack-kernel-") as sockets:
@@ -73,7 +82,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=int, default=int(os.environ.get("PROJTRACK_CELL_TIMEOUT", "600")),
                         help="per-cell timeout in seconds (default 600)")
     args = parser.parse_args(argv)
-    notebooks = [p.resolve() for p in args.notebooks] or toc_notebooks()
+    notebooks = run_order([p.resolve() for p in args.notebooks] or toc_notebooks())
     if not notebooks:
         print("run_notebooks: no notebooks to execute", file=sys.stderr)
         return 1

@@ -36,11 +36,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from projtrack._paths import figures_root  # noqa: E402
-from projtrack.tolerance import EXACT, Manifest, Tolerance, numerical, write_manifest  # noqa: E402
+from projtrack.tolerance import EXACT, Manifest, Tolerance, write_manifest  # noqa: E402
 
 __all__ = ["STYLE", "DPI", "apply_style", "style", "save", "save_table", "table_manifest", "output_path",
            "SavedFigure", "SavedTable", "legibility_problems", "COLUMN_PX", "MIN_DISPLAYED_PT",
-           "MAX_PANELS_PER_ROW", "show_table", "REQUIRE_TOLERANCE", "UNDECLARED"]
+           "MAX_PANELS_PER_ROW", "show_table"]
 
 #: Resolution of every saved figure (dots per inch).
 DPI = 120
@@ -81,14 +81,6 @@ STYLE: dict[str, Any] = {
     "svg.hashsalt": "projtrack",
     "path.simplify": True,
 }
-
-#: Whether :func:`save_table` refuses a column of non-integer numbers without a declared
-#: tolerance (True; while False, such a column is compared under :data:`UNDECLARED`).
-REQUIRE_TOLERANCE = True
-
-#: The comparison of a column whose tolerance was not declared (while
-#: :data:`REQUIRE_TOLERANCE` is False): the old blanket rule.
-UNDECLARED = numerical(rtol=1e-6, atol=1e-9, why="not declared")
 
 _NAME = re.compile(r"^[A-Za-z0-9_-]+(/[A-Za-z0-9_.-]+)+$")
 
@@ -321,7 +313,6 @@ def table_manifest(table: Any, tolerance: "Tolerance | Mapping[str, Tolerance] |
             tol = spec.get(name, spec.get("*"))
             if tol is None:
                 undeclared.append(name)
-                tol = UNDECLARED
             columns[name] = tol
         else:
             tol = spec.get(name)
@@ -329,7 +320,7 @@ def table_manifest(table: Any, tolerance: "Tolerance | Mapping[str, Tolerance] |
                 raise ValueError(f"column {name!r} holds integers or text, which are compared exactly: "
                                  f"it cannot take a {tol.kind} tolerance (store a share or a mean instead)")
             columns[name] = EXACT
-    if undeclared and REQUIRE_TOLERANCE:
+    if undeclared:
         raise ValueError(f"columns {undeclared} hold non-integer numbers: declare their tolerance "
                          "(tolerance=, see projtrack.tolerance)")
     return Manifest(columns)

@@ -10,7 +10,14 @@ Run by ``make browsercheck`` (part of ``make test``) after the strict build, on
   each page opened from ``file://`` with no network: equations typeset by MathJax (a
   ``mjx-container`` for every math element, no raw ``\\(``, ``\\[`` or ``$$`` left in the
   visible text outside code), every image loaded, no error in the console, and no request
-  for anything but local files.
+  for anything but local files;
+* how the book reads, at 1400 x 900: no output block (also inside folded dropdowns, opened
+  for the check), display equation or visible code block wider than its column; per page the
+  visible words (the article's ``innerText``), the visible code lines (displayed
+  ``.cell_input`` blocks) and the distance from the top of the article to its first loaded
+  image, printed as a table; the first figure of every page that has one within
+  :data:`FIRST_FIGURE_PX`, the landing page showing a figure, and the whole book within
+  :data:`MAX_CODE_LINES` visible code lines and :data:`MAX_WORDS` visible words.
 
 Without Chromium the browser checks are skipped with a message saying how to install it.
 """
@@ -37,6 +44,14 @@ INSTALL_HINT = ("install Debian's chromium and chromium-driver (apt-get install 
 
 # Pages Sphinx writes that are not pages of the book.
 _SKIP = {"genindex.html", "search.html", "py-modindex.html"}
+
+#: The reading budget of the whole book (issue: the result first, nothing cut off, details folded).
+MAX_CODE_LINES = 800
+MAX_WORDS = 45_000
+FIRST_FIGURE_PX = 1500
+WINDOW = (1400, 900)
+#: Reference pages (the API reference) are not counted in the reading budget.
+_REFERENCE = ("api", "_autosummary", "generated")
 
 
 def _pages() -> list[Path]:
@@ -152,7 +167,7 @@ def browser():
     profile = tempfile.mkdtemp(prefix="projtrack-chromium-")
     for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                "--disable-dev-shm-usage", "--window-size=1280,900", f"--user-data-dir={profile}"):
+                "--disable-dev-shm-usage", f"--window-size={WINDOW[0]},{WINDOW[1]}", f"--user-data-dir={profile}"):
         opts.add_argument(arg)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL", "performance": "ALL"})
     driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
@@ -197,6 +212,45 @@ return {
 """
 
 
+_READING = r"""
+const art = document.querySelector('article.bd-article') || document.querySelector('main') || document.body;
+window.scrollTo(0, 0);
+const top = art.getBoundingClientRect().top;
+const shown = e => !!(e.offsetParent || e.getClientRects().length) && !e.closest('details:not([open])');
+const words = (art.innerText.match(/\S+/g) || []).length;
+let code = 0;
+art.querySelectorAll('.cell_input').forEach(c => { if (shown(c)) code += c.innerText.split('\n').filter(l => l.trim()).length; });
+const img = Array.from(art.querySelectorAll('img')).find(i => shown(i) && i.complete && i.naturalWidth > 0);
+const wide = [];
+const right = art.getBoundingClientRect().right - parseFloat(getComputedStyle(art).paddingRight) + 2;
+const check = (sel, kind) => art.querySelectorAll(sel).forEach(e => {
+  if (!shown(e)) return;
+  const r = e.getBoundingClientRect();
+  if (e.scrollWidth > e.clientWidth + 2 || r.right > right) {
+    wide.push(kind + ': ' + (e.innerText || e.getAttribute('src') || '').trim().slice(0, 70).replace(/\s+/g, ' '));
+  }
+});
+// outputs, including those in folded dropdowns and collapsed cells: open everything first
+art.querySelectorAll('details').forEach(d => d.open = true);
+art.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
+check('.cell_output .output, .cell_output pre, .cell_output table, .cell_output img, table, img, mjx-container[display="true"]', 'output');
+return {words: words, code: code, figure: img ? Math.round(img.getBoundingClientRect().top - top) : null, wide: wide};
+"""
+
+_CODE_WIDTH = r"""
+const art = document.querySelector('article.bd-article') || document.body;
+const shown = e => !!(e.offsetParent || e.getClientRects().length) && !e.closest('details:not([open])');
+const out = [];
+art.querySelectorAll('.cell_input pre, div.highlight pre').forEach(e => {
+  if (shown(e) && e.scrollWidth > e.clientWidth + 2) out.push('code: ' + e.innerText.trim().split('\n')[0].slice(0, 70));
+});
+return out;
+"""
+
+#: Per-page reading facts gathered by the page test, checked and printed by the budget test.
+READING: dict[str, dict] = {}
+
+
 @pytest.mark.parametrize("page", PAGES, ids=[p.relative_to(HTML).as_posix() for p in PAGES])
 def test_page_reads_offline_in_chromium(browser, page):
     browser.get_log("browser"), browser.get_log("performance")  # drop earlier pages' logs
@@ -235,4 +289,40 @@ def test_page_reads_offline_in_chromium(browser, page):
                 remote.append(url)
     if remote:
         problems.append(f"network requests: {remote[:5]}")
-    assert not problems, f"{page.relative_to(HTML)}: " + "; ".join(problems)
+    # how it reads: measured on the page as a reader first sees it (code width), then with every
+    # dropdown opened (outputs)
+    code_wide = browser.execute_script(_CODE_WIDTH)
+    facts = browser.execute_script(_READING)
+    rel = page.relative_to(HTML).as_posix()
+    READING[rel] = {**facts, "wide": code_wide + facts["wide"]}
+    if READING[rel]["wide"]:
+        problems.append(f"{len(READING[rel]['wide'])} blocks wider than the column, e.g. {READING[rel]['wide'][:3]}")
+    if facts["figure"] is not None and facts["figure"] > FIRST_FIGURE_PX and not rel.startswith(_REFERENCE):
+        problems.append(f"the first figure is {facts['figure']} px below the top of the article "
+                        f"(at most {FIRST_FIGURE_PX})")
+    if rel in ("index.html", "intro.html") and facts["figure"] is None:
+        problems.append("the landing page shows no figure")
+    assert not problems, f"{rel}: " + "; ".join(problems)
+
+
+def test_reading_budget_of_the_whole_book(browser):
+    """Totals over the book's pages (the API reference apart), printed per page."""
+    if len(READING) < len(PAGES):
+        pytest.skip("run with the page tests (the whole module) to measure the whole book")
+    lines = [f"{'page':58s} {'words':>7s} {'code':>5s} {'1st fig px':>10s}"]
+    words = code = 0
+    for rel, f in sorted(READING.items()):
+        if rel.startswith(_REFERENCE):
+            continue
+        words += f["words"]
+        code += f["code"]
+        lines.append(f"{rel:58s} {f['words']:7d} {f['code']:5d} {'-' if f['figure'] is None else f['figure']:>10}")
+    lines.append(f"{'total (budget: ' + str(MAX_WORDS) + ' words, ' + str(MAX_CODE_LINES) + ' code lines)':58s} "
+                 f"{words:7d} {code:5d}")
+    table = "\n".join(lines)
+    out = Path(os.environ.get("PROJTRACK_READING_REPORT", ROOT / ".cache" / "reading.txt"))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(table + "\n")
+    print("\n" + table)
+    assert code <= MAX_CODE_LINES, f"{code} visible code lines (at most {MAX_CODE_LINES})"
+    assert words <= MAX_WORDS, f"{words} visible words (at most {MAX_WORDS})"

@@ -6,8 +6,13 @@ cells; these functions decide which value the paper's other tables support.
 against Table IV; :func:`table5_additions_rule` and :func:`table5_additions_proof` test
 Table V's additions against Table III's vector sizes; :func:`ratio_fits` and
 :func:`supported_value` read Table VI's printed savings ratios as evidence.
-:func:`grows_geometrically` and :func:`growth_readings` tabulate three readings of the
-claim that the vector length "does not increase appreciably" (Sec. III.B).
+:func:`grows_geometrically`, :func:`growth_readings` and :func:`relative_growth_table`
+tabulate three readings of the claim that the vector length "does not increase
+appreciably" (Sec. III.B), each run on a baseline.
+:func:`misprint_evidence` gathers, for every cell where Tables IV or V differ from the
+instrumented counts, the arithmetic that proves it misprinted, and
+:func:`count_table_verdict` turns it into a table's verdict. :func:`fast_count_readings` pins which words a stage of the fast algorithm computes on one
+printed Table V cell and judges the reading on the others.
 """
 
 from __future__ import annotations
@@ -20,11 +25,13 @@ import pandas as pd
 from projtrack._validation import as_bool, as_int, as_real
 from projtrack.jpda import count_feasible_events, vector_size
 
-from .optables import half_up
+from .optables import all_ones_mvm, beta_in_situ, half_up
 
 __all__ = ["multiplication_rules", "rule_fits", "multiplication_rule_table",
            "table5_additions_rule", "table5_additions_proof", "ratio_fits", "supported_value",
-           "grows_geometrically", "growth_readings"]
+           "grows_geometrically", "growth_readings", "relative_growth_table", "RELATIVE_FALL",
+           "LEVEL_OFF", "fast_count_readings", "misprint_evidence",
+           "count_table_verdict"]
 
 Cell = tuple[int, int]
 Counts = Mapping[Cell, tuple[int, int]]
@@ -92,13 +99,16 @@ def table5_additions_rule(m: int, T: int) -> int:
     return m * T * sum(vector_size(m - 1, T - k) for k in range(T - 1))
 
 
-def table5_additions_proof(k: Cell, ours: Counts, printed: Counts) -> tuple[bool, str]:
+def table5_additions_proof(k: Cell, ours: Counts, printed: Counts,
+                           table3_sizes: Sequence[int] = range(3, 8)) -> tuple[bool, str]:
     """Does Table III's rule prove the printed Table V additions at cell ``k`` a misprint?
 
     Proven when :func:`table5_additions_rule` reproduces the printed additions of every
     other cell of ``printed``, all of them are multiples of ``m T`` while the printed value
     at ``k`` is not, and the rule gives our count ``ours[k]``. Returns ``(proven, text)``,
-    the text giving the numbers.
+    the text giving the numbers; a size ``V`` outside the printed Table III (rows and
+    columns ``table3_sizes``) is named as such: it comes from the formula the 25 printed
+    sizes follow, not from the table.
     """
     k = _cell(k)
     if k not in printed or k not in ours:
@@ -111,11 +121,19 @@ def table5_additions_proof(k: Cell, ours: Counts, printed: Counts) -> tuple[bool
     rule_k = table5_additions_rule(*k)
     proven = (fits == len(others) and multiples == len(others) and p % mT != 0
               and rule_k == ours[k][0])
-    terms = " + ".join(str(vector_size(k[0] - 1, k[1] - i)) for i in range(k[1] - 1))
-    text = (f"the rule additions = mT sum_(k=0..T-2) V(m-1, T-k) (V: Table III sizes) reproduces "
-            f"{fits}/{len(others)} other printed additions cells and {multiples}/{len(others)} of them "
-            f"are multiples of mT; the printed {p} is not ({p}/{mT} = "
+    shown = {as_int(x, "table3_sizes[]", minimum=1) for x in table3_sizes}
+    sizes = [(k[0] - 1, k[1] - i) for i in range(k[1] - 1)]
+    terms = " + ".join(str(vector_size(*v)) for v in sizes)
+    outside = [v for v in sizes if v[0] not in shown or v[1] not in shown]
+    text = (f"the rule additions = mT sum_(k=0..T-2) V(m-1, T-k) (V: the vector length, "
+            f"sum_(j >= max(0, m-T+1)) C(m, j), which gives all 25 printed Table III sizes) "
+            f"reproduces {fits}/{len(others)} other printed additions cells and {multiples}/{len(others)} "
+            f"of them are multiples of mT; the printed {p} is not ({p}/{mT} = "
             f"{p / mT:.2f}); the rule gives {mT} x ({terms}) = {rule_k}")
+    if outside:
+        text += ("; " + ", ".join(f"V({a}, {b}) = {vector_size(a, b)}" for a, b in outside)
+                 + " lie" + ("s" if len(outside) == 1 else "") + " outside the printed Table III: "
+                 "from its formula, as V(m-1, 2) is in every cell the rule fits")
     return proven, text
 
 
@@ -157,51 +175,210 @@ def _span(r: Sequence[int]) -> str:
     return f"{r[0]}..{r[-1]}"
 
 
+#: Reading 2 of the growth remark: the length over eq. (1) must fall at least this much per step.
+RELATIVE_FALL = 2.0
+#: Reading 3: the length must grow by less than this factor from T = 6 to T = 7 in every row.
+LEVEL_OFF = 1.1
+
+
+def _relative_candidates() -> dict[str, Callable[[int], int]]:
+    """Sizes along ``m = T = n`` judged against eq. (1) by reading 2 (the length and baselines)."""
+    from math import factorial
+
+    return {"vector length (Table III)": lambda n: vector_size(n, n),
+            "eq. (1) itself": lambda n: count_feasible_events(n, n),
+            "eq. (1) of m - 1, T - 1": lambda n: count_feasible_events(n - 1, n - 1),
+            "n!": factorial,
+            "n 2^n": lambda n: n * 2**n}
+
+
+def relative_growth_table(diag: Sequence[int] = range(3, 8)) -> pd.DataFrame:
+    """Reading 2 of "does not increase appreciably", run on the length and on baselines.
+
+    For each candidate size along ``m = T = n`` (the Table III length, eq. (1) itself, eq. (1)
+    of the problem one size smaller, ``n!`` and ``n 2^n``), the factor by which
+    ``size / eq. (1)`` falls at each step of ``diag`` (smallest and largest) and whether it
+    falls by at least :data:`RELATIVE_FALL` at every step. Eq. (1) and its smaller problem
+    grow combinatorially and must fail; an exponential size is small next to eq. (1) and
+    passes, as the reading intends.
+    """
+    diag = [as_int(x, "diag[]", minimum=2) for x in diag]
+    if len(diag) < 2:
+        raise ValueError("diag needs at least two sizes")
+    rows = []
+    for name, f in _relative_candidates().items():
+        r = [f(n) / count_feasible_events(n, n) for n in diag]
+        falls = [a / b for a, b in zip(r[:-1], r[1:])]
+        rows.append({"size along m = T": name, "smallest fall per step": min(falls),
+                     "largest fall per step": max(falls),
+                     f"falls >= {RELATIVE_FALL:g}x at every step": bool(min(falls) >= RELATIVE_FALL)})
+    return pd.DataFrame(rows)
+
+
 def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
-                    sizes: Sequence[int] = range(3, 8), t_range: Sequence[int] = range(3, 13),
-                    fixed_m: Sequence[int] = (3, 4)) -> pd.DataFrame:
-    """Three readings of "the vector length does not increase appreciably", with a baseline.
+                    table_sizes: Sequence[int] = range(3, 8)) -> pd.DataFrame:
+    """Three readings of "the vector length does not increase appreciably", each with a baseline.
 
-    1. absolute, along ``m = T``: the claim holds unless :func:`grows_geometrically` judges
+    1. *absolute, along* ``m = T``: the claim holds unless :func:`grows_geometrically` judges
        ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.vector_growth`
-       table) geometric; the baseline ``n + 1`` passes.
-    2. relative to eq. (1): the length over the event count falls along ``m = T`` in
-       ``diag``; the baseline (eq. (1) over itself) fails.
-    3. in ``T`` at fixed ``m``: the length stays ``<= 2^m`` for ``m`` in ``sizes`` and
-       ``T`` in ``t_range``; the baseline (eq. (1) itself) fails.
+       table) geometric; the baseline ``n + 1`` (the length of a column of beta), which does
+       not grow appreciably, must pass.
+    2. *relative to eq. (1)*, the comparison the text itself makes: the length over the event
+       count falls by at least :data:`RELATIVE_FALL` at every step along ``m = T`` in ``diag``;
+       the baseline eq. (1) of the problem one size smaller, which grows combinatorially,
+       must fail (:func:`relative_growth_table` runs more baselines).
+    3. *in* ``T`` *at fixed* ``m`` (the rows of Table III): the length grows by less than
+       :data:`LEVEL_OFF` from the last ``T`` but one to the last of ``table_sizes``, in every
+       row ``m`` of ``table_sizes``; the baseline eq. (1) at fixed ``m`` must fail.
 
-    One row per reading, with the values shown (``fixed_m`` are the rows printed for
-    reading 3), ``claim holds`` and ``baseline passes``.
+    One row per reading: ``values`` (what the length gives), ``claim holds``, ``baseline`` and
+    ``baseline holds``.
     """
     if not isinstance(growth, pd.DataFrame) or "vector length" not in growth:
         raise TypeError("growth must be a vector_growth table (a DataFrame with 'vector length')")
-    diag, sizes, t_range, fixed_m = ([as_int(x, f"{nm}[]", minimum=1) for x in r] for nm, r in
-                                     (("diag", diag), ("sizes", sizes), ("t_range", t_range),
-                                      ("fixed_m", fixed_m)))
-    if len(diag) < 2 or not sizes or not t_range or not fixed_m:
-        raise ValueError("diag needs two sizes; sizes, t_range and fixed_m must not be empty")
+    diag = [as_int(x, "diag[]", minimum=2) for x in diag]
+    if len(diag) < 2:
+        raise ValueError("diag needs at least two sizes")
+    sizes = [as_int(x, "table_sizes[]", minimum=1) for x in table_sizes]
+    if len(sizes) < 2:
+        raise ValueError("table_sizes needs at least two sizes")
     lengths = growth["vector length"]
     n = lengths.index
-    vec_geometric = grows_geometrically(lengths)
-    baseline_geometric = grows_geometrically({i: i + 1 for i in n})
     step = lengths.iloc[-1] / lengths.iloc[-2]
-    rel = [vector_size(i, i) / count_feasible_events(i, i) for i in diag]
-    rel_falls = bool(np.all(np.diff(rel) < 0))
-    rel_baseline_falls = bool(np.all(np.diff(np.ones(len(diag))) < 0))  # eq. (1) / eq. (1)
-    in_T_bounded = all(vector_size(m, T) <= 2**m for m in sizes for T in t_range)
-    in_T_baseline_bounded = all(count_feasible_events(m, T) <= 2**m for m in sizes for T in t_range)
+    rel = relative_growth_table(diag).set_index("size along m = T")
+    ok2 = f"falls >= {RELATIVE_FALL:g}x at every step"
+    T0, T1 = sizes[-2], sizes[-1]
+
+    def levels_off(f: Callable[[int, int], int]) -> tuple[bool, float, float]:
+        g = [f(m, T1) / f(m, T0) for m in sizes]
+        return bool(max(g) < LEVEL_OFF), min(g), max(g)
+
+    hold3, lo3, hi3 = levels_off(vector_size)
+    base3, blo3, bhi3 = levels_off(count_feasible_events)
     return pd.DataFrame([
         {"reading": "1. absolute, along m = T",
          "values": ", ".join(str(vector_size(i, i)) for i in diag)
-         + f" (m = T = {_span(diag)}; x{step:.2f} from {n[-2]} to {n[-1]})",
-         "claim holds": not vec_geometric, "baseline passes": not baseline_geometric},
+         + f" (m = T = {_span(diag)}); x{step:.2f} from {n[-2]} to {n[-1]}",
+         "claim holds": not grows_geometrically(lengths),
+         "baseline": "m + 1 (a column of beta)",
+         "baseline holds": not grows_geometrically({i: i + 1 for i in n})},
         {"reading": "2. relative to eq. (1)",
-         "values": ", ".join(f"{r:.2g}" for r in rel) + f" (m = T = {_span(diag)})",
-         "claim holds": rel_falls, "baseline passes": rel_baseline_falls},
+         "values": f"falls x{rel.iloc[0, 0]:.1f} to x{rel.iloc[0, 1]:.1f} per step (m = T = {_span(diag)})",
+         "claim holds": bool(rel.iloc[0][ok2]),
+         "baseline": f"eq. (1) of m - 1, T - 1 (x{rel.iloc[2, 0]:.2f} to x{rel.iloc[2, 1]:.2f})",
+         "baseline holds": bool(rel.iloc[2][ok2])},
         {"reading": "3. in T at fixed m",
-         "values": "; ".join(f"m = {m}: " + ", ".join(str(vector_size(m, T)) for T in sizes)
-                             for m in fixed_m)
-         + f" (T = {_span(sizes)}); <= 2^m up to T = {t_range[-1]} for m = {_span(sizes)}: "
-         + str(in_T_bounded),
-         "claim holds": in_T_bounded, "baseline passes": in_T_baseline_bounded},
-    ]).set_index("reading")
+         "values": f"x{lo3:.2f} to x{hi3:.2f} from T = {T0} to {T1} (m = {_span(sizes)})",
+         "claim holds": hold3,
+         "baseline": f"eq. (1) at fixed m (x{blo3:.2f} to x{bhi3:.2f})",
+         "baseline holds": base3},
+    ])
+
+
+def fast_count_readings(printed: Counts, calibrate: Cell = (7, 7)) -> pd.DataFrame:
+    """Which words each stage computes, pinned by one printed Table V cell and judged on the rest.
+
+    Two readings of the fast algorithm's count (:func:`~projtrack.experiments.jpda.beta_in_situ`
+    on all-ones MVMs): ``needed`` (each stage computes only the MU words the later stages
+    read, as :func:`projtrack.jpda.beta_paper`) and ``all`` (each stage recomputes the
+    whole Table III vector). One row per reading: its count at the cell ``calibrate``
+    (the text's ``m = T = 7``), whether that equals the printed cell, and how many of the
+    other printed cells of ``printed`` (additions and multiplications both) it gives.
+    """
+    calibrate = _cell(calibrate, "calibrate")
+    if calibrate not in printed:
+        raise ValueError(f"calibrate = {calibrate} must be a cell of printed")
+    rows = []
+    for reading in ("needed", "all"):
+        counts = {}
+        for k in printed:
+            ops = beta_in_situ(all_ones_mvm(*_cell(k, "printed key")), words=reading).ops
+            counts[k] = (ops.additions, ops.multiplications)
+        others = [k for k in printed if k != calibrate]
+        m, T = calibrate
+        rows.append({"words computed per stage": reading,
+                     (f"m = T = {m}" if m == T else f"m = {m}, T = {T}"): "{}/{}".format(*counts[calibrate]),
+                     "equals the printed cell": counts[calibrate] == tuple(printed[calibrate]),
+                     "other cells equal": sum(counts[k] == tuple(printed[k]) for k in others)})
+    return pd.DataFrame(rows)
+
+
+def misprint_evidence(conv: Counts, fast: Counts, printed4: Counts, printed5: Counts,
+                      printed6: Mapping[Cell, Sequence[float]]) -> pd.DataFrame:
+    """Every cell where Table IV or V differs from the instrumented count, and what proves it.
+
+    A differing cell is a proven misprint when (a) the savings ratio of Table VI (printed
+    independently, to one decimal) equals the ratio computed with our count, rounded
+    half-up, and not the ratio with the printed count (:func:`ratio_fits`); or, for the
+    additions of Table V, (b) Table III's rule proves it (:func:`table5_additions_proof`)
+    while the cell's multiplications agree with ours.
+
+    Parameters
+    ----------
+    conv, fast : dict
+        Our counts (:func:`~projtrack.experiments.jpda.instrumented_counts`), keyed ``(m, T)``.
+    printed4, printed5 : dict
+        Tables IV and V as printed (:func:`~projtrack.experiments.jpda.parse_count_table`).
+    printed6 : dict
+        Table VI as printed (:func:`~projtrack.experiments.jpda.parse_ratio_table`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per differing cell: ``table`` ("IV" or "V"), ``m``, ``T``, ``printed`` and
+        ``ours`` (``"additions/multiplications"``), ``decided by`` ("Table VI", "Table III",
+        or "" when nothing decides), ``proven`` and ``proof`` (the arithmetic, one line).
+    """
+    for name, d in (("conv", conv), ("fast", fast), ("printed4", printed4), ("printed5", printed5),
+                    ("printed6", printed6)):
+        if not isinstance(d, Mapping) or not d:
+            raise ValueError(f"{name} must be a non-empty dict keyed by (m, T)")
+    cells = list(printed4)
+    if any(k not in d for k in cells for d in (conv, fast, printed5, printed6)):
+        raise ValueError("conv, fast, printed5 and printed6 must hold every cell of printed4")
+    what = ("additions", "multiplications")
+    rows = []
+    for table, ours_d, printed_d in (("IV", conv, printed4), ("V", fast, printed5)):
+        for k in cells:
+            ours, printed = tuple(ours_d[k]), tuple(printed_d[k])
+            if ours == printed:
+                continue
+            num_o, den_o = conv[k], fast[k]
+            num_p, den_p = (printed, fast[k]) if table == "IV" else (conv[k], printed)
+            evid = supported_value(ratio_fits(printed6[k], num_o, den_o), ratio_fits(printed6[k], num_p, den_p))
+            parts = [f"Table VI prints {printed6[k][i]:.1f} for {what[i]}: {num_o[i]}/{den_o[i]} = "
+                     f"{num_o[i] / den_o[i]:.2f} with our count, {num_p[i]}/{den_p[i]} = "
+                     f"{num_p[i] / den_p[i]:.2f} with the printed one"
+                     for i in (0, 1) if ours[i] != printed[i]]
+            decided, proven = ("Table VI", True) if evid == "ours" else ("", False)
+            if evid == "ours+paper":
+                parts.append("both round to the printed ratio: Table VI does not decide")
+            elif evid != "ours":
+                parts.append("Table VI does not support our count")
+            if not proven and table == "V" and ours[0] != printed[0] and ours[1] == printed[1]:
+                ok, text = table5_additions_proof(k, fast, printed5)
+                parts.append(f"Table III: {text}")
+                decided, proven = ("Table III", True) if ok else ("", False)
+            if table == "IV" and ours[1] != printed[1]:
+                parts.append(f"our count is (T - 1) x Table I = {k[1] - 1} x "
+                             f"{count_feasible_events(*k)} = {(k[1] - 1) * count_feasible_events(*k)}")
+            rows.append({"table": table, "m": k[0], "T": k[1], "printed": "{}/{}".format(*printed),
+                         "ours": "{}/{}".format(*ours), "decided by": decided, "proven": proven,
+                         "proof": "; ".join(parts)})
+    return pd.DataFrame(rows, columns=["table", "m", "T", "printed", "ours", "decided by", "proven", "proof"])
+
+
+def count_table_verdict(n_cells: int, evidence: pd.DataFrame, table: str) -> tuple[str, int, int]:
+    """The verdict of Table IV or V under the book's rule, from :func:`misprint_evidence`.
+
+    ``reproduced`` when no cell differs, ``misprint`` when every differing cell is a proven
+    misprint (the table as printed contains an error its own paper disproves), ``differs``
+    otherwise. Returns ``(verdict, cells equal, proven misprints)``.
+    """
+    n_cells = as_int(n_cells, "n_cells", minimum=1)
+    if not isinstance(evidence, pd.DataFrame) or "table" not in evidence:
+        raise TypeError("evidence must be a misprint_evidence table")
+    rows = evidence[evidence["table"] == table]
+    proven = int(rows["proven"].sum())
+    verdict = "reproduced" if rows.empty else "misprint" if proven == len(rows) else "differs"
+    return verdict, n_cells - len(rows), proven
