@@ -57,6 +57,24 @@ def test_walking_sequence_ground_truth():
     np.testing.assert_array_equal(s.frames, s2.frames)
 
 
+def test_walking_sequence_prefix_knobs_and_sync():
+    kw = dict(shape=(32, 32), entry_frame=3, background_height=8.0, foreground_height=16.0)
+    long = sq.walking_sequence(np.random.default_rng(4), n_frames=8, **kw)
+    short = sq.walking_sequence(np.random.default_rng(4), n_frames=3, **kw)
+    np.testing.assert_array_equal(long.frames[:3], short.frames)      # drawn frame by frame
+    dark = sq.walking_sequence(np.random.default_rng(4), n_frames=8, gain=0.5, noise_std=0.0, jitter=0.0, **kw)
+    flat = sq.walking_sequence(np.random.default_rng(4), n_frames=8, people_contrast=0.0, noise_std=0.0,
+                               jitter=0.0, **kw)
+    assert np.array_equal(flat.frames[0], flat.frames[1])             # no walkers, no shift, no noise
+    ref = sq.walking_sequence(np.random.default_rng(4), n_frames=8, noise_std=0.0, jitter=0.0, **kw)
+    assert np.abs(dark.frames.astype(float) - 0.5 * ref.frames).max() <= 1.0
+    synced = sq.walking_sequence(np.random.default_rng(4), n_frames=8, jitter_frames=(2,), **kw)
+    assert synced.offsets[1].any() and not synced.offsets[[0, 2, 3]].any()
+    fg_only = sq.walking_sequence(np.random.default_rng(4), n_frames=8, people_contrast=0.0,
+                                  foreground_contrast=1.0, noise_std=0.0, jitter=0.0, **kw)
+    assert np.array_equal(fg_only.frames[0], flat.frames[0]) and not np.array_equal(fg_only.frames[5], flat.frames[5])
+
+
 def test_walking_sequence_bad_inputs():
     rng = np.random.default_rng(0)
     with pytest.raises(TypeError, match="rng"):
@@ -67,5 +85,11 @@ def test_walking_sequence_bad_inputs():
         sq.walking_sequence(rng, n_frames=0)
     with pytest.raises(ValueError, match="jitter"):
         sq.walking_sequence(rng, jitter=-1.0)
+    with pytest.raises(ValueError, match="gain"):
+        sq.walking_sequence(rng, gain=-0.5)
+    with pytest.raises(ValueError, match="jitter_frames"):
+        sq.walking_sequence(rng, jitter_frames=(0,))
+    with pytest.raises(ValueError, match="jitter_frames"):
+        sq.walking_sequence(rng, jitter_frames=2)
     with pytest.raises(ValueError, match="contrast"):
         sq.textured_background((32, 32), rng, contrast=np.inf)

@@ -48,20 +48,6 @@ def test_ghost_area_counts_path_pixels_above_threshold_per_person_area():
         ex.ghost_area(img, bg, paths[:2], 1.0)
 
 
-def test_ghost_study_keys_and_frame_one_baseline():
-    frames, bg = _toy_sequence()
-    masks = np.zeros(frames.shape, bool)
-    masks[:, 4:8, :] = True
-    recs = nv.process_sequence(frames, 0.001, 0.9995)
-    out = ex.ghost_study(frames, bg, masks, recs, recs, at=(5,))
-    assert set(out) == {5}
-    assert set(out[5]) == {"first eigenimage, Fig. 3 settings", "first eigenimage, Fig. 2 settings",
-                           "running temporal mean", "frame 1"}
-    assert out[5]["first eigenimage, Fig. 3 settings"] == out[5]["first eigenimage, Fig. 2 settings"]
-    with pytest.raises(ValueError, match="at"):
-        ex.ghost_study(frames, bg, masks, recs, recs, at=(99,))
-
-
 def test_order_and_entry_rules():
     quiet_then_entry = [True, False, False, True] + [False] * 3 + [True] * 5
     recs = _recs(quiet_then_entry)
@@ -74,174 +60,12 @@ def test_order_and_entry_rules():
         ex.order_2_4([1, 2, 3, 4])
 
 
-def test_fig2_stats_reads_the_records():
-    novel = [True, False, False, True] + [False] * 3 + [True] * 5
-    s = ex.fig2_stats(_recs(novel), 8)
-    assert s["frame 2 novel"] is False and s["frame 4 novel"] is True
-    assert s["F_4,1"] == 0.9 and s["updates, frames 2-7"] == 1
-    assert s["every frame >= 8 novel"] and s["paper's order at 2-4"]
-    assert np.isnan(ex.fig2_stats(_recs([True] + [False] * 11), 8)["F_4,1"])
-
-
-def test_synthetic_draws_are_reproducible_and_shaped():
-    kw = dict(shape=(32, 32))
-    seeds, nov = ex.synthetic_draws(2, np.random.default_rng(3), **kw)
-    again, nov2 = ex.synthetic_draws(2, np.random.default_rng(3), **kw)
-    assert nov.shape == (2, 24) and list(seeds.index) == [0, 1]
-    pd.testing.assert_frame_equal(seeds, again)
-    np.testing.assert_array_equal(nov, nov2)
-    one = ex.synthetic_draw(np.random.default_rng(3).spawn(2)[1], **kw)
-    np.testing.assert_array_equal(one.pop("novelty"), nov[1])
-    assert one["n_2"] == seeds.loc[1, "n_2"]
-    with pytest.raises(ValueError, match="n_draws"):
-        ex.synthetic_draws(0, np.random.default_rng(3))
-
-
 def test_record_table_matches_process_sequence():
     frames, _ = _toy_sequence(6)
     recs, table = ex.record_table(frames, 0.0, 1.0)
     assert list(table.index) == [1, 2, 3, 4, 5, 6]
     assert table["novel"].all() and table["eigenimages kept"].tolist() == [r.rank for r in recs]
     assert table.loc[2, "n_i"] == round(recs[1].novelty, 6)
-
-
-def test_jitter_sensitivity_one_draw_per_level():
-    sens = ex.jitter_sensitivity(1, 0, (0.0,))
-    d = ex.jitter_draw(np.random.default_rng(0).spawn(1)[0], 0.0)
-    assert sens.shape[0] == 1
-    assert sens.loc[0, "median n_2"] == round(d["n_2"], 4)
-    assert sens.loc[0, "entry marked (fraction)"] == float(d["entry"])
-    with pytest.raises(ValueError, match="jitter"):
-        ex.jitter_draw(np.random.default_rng(0), -1.0)
-
-
-def test_novel_pixel_scores_against_ground_truth():
-    recs = _recs([True, True, True], shape=(2, 2))
-    recs[2].novel_pixels[0, 0] = True              # the person's pixel found, no false alarm
-    masks = np.zeros((3, 2, 2), bool)
-    fg = np.zeros((3, 2, 2), bool)
-    fg[2, 0, 0] = masks[2, 0, 0] = True
-    rows = ex.novel_pixel_scores(recs, masks, fg, 3)
-    assert rows == [{"frame": 3, "person pixels detected": 1.0, "false alarms on background": 0.0}]
-    with pytest.raises(ValueError, match="masks"):
-        ex.novel_pixel_scores(recs, masks[:2], fg[:2], 3)
-
-
-# --- summaries --------------------------------------------------------------------------------
-G3, G2 = "first eigenimage, Fig. 3 settings", "first eigenimage, Fig. 2 settings"
-
-
-def _seed_table():
-    """Four hand-made draws with the columns synthetic_draws returns."""
-    s = pd.DataFrame({
-        "n_2": [0.001, 0.002, 0.003, 0.004], "frame 2 novel": [False, False, True, False],
-        "n_4": [0.002, 0.003, 0.004, 0.005], "frame 4 novel": [True, True, True, False],
-        "F_4,1": [0.99, 0.98, 0.97, np.nan], "rank at 4": [1, 2, 1, 1],
-        "paper's order at 2-4": [True, False, False, False], "updates, frames 2-7": [0, 2, 3, 1],
-        "every frame >= 8 novel": [True, True, False, True], "entry marked": [True, False, False, False],
-        "n_8": [0.005, 0.006, 0.007, 0.008], "max eigenimages kept": [1, 2, 1, 1],
-        "same updates under both settings": [True, False, False, False]})
-    for j, (a3, a2) in {10: ([0.1, 0.1, 0.5, 0.2], [0.3, 0.2, 0.4, 0.3]),
-                        20: ([0.2, 0.1, 0.3, 0.4], [0.1, 0.2, 0.4, 0.5])}.items():
-        s[f"ghost {j}: {G3}"], s[f"ghost {j}: {G2}"] = a3, a2
-        s[f"ghost {j}: running temporal mean"] = [0.0, 0.3, 0.3, 0.3]
-        s[f"ghost {j}: frame 1"] = [1.0] * 4
-    return s
-
-
-def test_quartiles_and_fractions_text():
-    assert ex.quartiles([1, 2, 3, 4, np.nan]) == "2.5000 [1.7500, 3.2500]"
-    assert ex.quartiles([1.0], 1) == "1.0 [1.0, 1.0]"
-    rec = _recs([True, False])
-    assert ex.fractions_text(rec[0]) == "[0.900000, 0.100000]"
-    assert ex.fractions_text(rec[1]) == "none (not novel)"
-    with pytest.raises(TypeError, match="FrameRecord"):
-        ex.fractions_text(0.5)
-    with pytest.raises(ValueError, match="digits"):
-        ex.quartiles([1.0], -1)
-
-
-def test_fig2_fractions_and_summary():
-    s = _seed_table()
-    fr = ex.fig2_fractions(s)
-    assert fr == {"frame 2 not novel": 0.75, "frame 4 novel, one eigenimage": 0.5,
-                  "paper's order at 2-4": 0.25, "every frame >= 8 novel": 0.75, "entry marked": 0.25}
-    table = ex.fig2_seed_summary(s)
-    col = table["synthetic, 4 draws"]
-    assert col["frame 2 not novel (fraction of draws)"] == "0.75"
-    assert col["F_4,1 where frame 4 is novel (3 draws), median [quartiles]"] == "0.980000 [0.975000, 0.985000]"
-    assert col["updates among frames 2-7, median [range]"] == "1.5 [0, 3]"
-    assert col["max eigenimages kept (largest over draws)"] == "2"
-    assert table.loc["n_8, median [quartiles]", "paper"] == "0.0058"
-    with pytest.raises(ValueError, match="entry marked"):
-        ex.fig2_fractions(s.drop(columns="entry marked"))
-    with pytest.raises(TypeError, match="DataFrame"):
-        ex.fig2_seed_summary(s.to_dict())
-    with pytest.raises(ValueError, match="at least one"):
-        ex.fig2_fractions(s.iloc[:0])
-
-
-def test_cleaner_fraction_counts_only_draws_whose_updates_differ():
-    frac, n = ex.cleaner_fraction(_seed_table())
-    assert n == 3 and frac == pytest.approx(2 / 3)      # draws 1 and 3 (draw 0 updates the same)
-    same = _seed_table().assign(**{"same updates under both settings": True})
-    frac, n = ex.cleaner_fraction(same)
-    assert n == 0 and np.isnan(frac)
-    with pytest.raises(ValueError, match="ghost 30"):
-        ex.cleaner_fraction(_seed_table(), at=(30,))
-
-
-def test_ghost_table_matches_ghost_study_and_rms_ratio():
-    frames, bg = _toy_sequence()
-    masks = np.zeros(frames.shape, bool)
-    masks[:, 4:8, :] = True
-    recs = nv.process_sequence(frames, 0.001, 0.9995)
-    real = ex.ghost_study(frames, bg, masks, recs, recs, at=(5, 12))
-    t = ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(5, 12))
-    assert list(t.index) == [G3, G2, "running temporal mean", "frame 1"]
-    assert t.loc["frame 1", "real: ghost area, frame 12"] == round(real[12]["frame 1"], 2)
-    assert t.loc["frame 1", "real: RMS ratio at 12"] == round(ex.rms_ratio(frames[0], frames, bg), 3)
-    assert t.loc[G3, "synthetic: ghost area, frame 10, median [10-90 %]"] == "0.15 [0.10, 0.41]"
-    assert list(t["synthetic: passes at 10 and 20 (fraction)"]) == [0.5, 0.25, 0.25, 0.0]
-    with pytest.raises(ValueError, match="real_ghosts lacks"):
-        ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(7,))
-    with pytest.raises(ValueError, match="ghost 30"):
-        ex.ghost_table(real, frames, bg, recs, recs, _seed_table(), real_at=(5,), synthetic_at=(30,))
-
-
-def test_threshold_sensitivity_equals_ghost_area_per_threshold():
-    bg = np.zeros((4, 4))
-    masks = np.zeros((3, 4, 4), bool)
-    masks[0, 0, :2] = True
-    masks[1, 0, 2:] = True
-    masks[2, 1, :2] = True
-    img = np.zeros((4, 4))
-    img[0] = [10.0, 20.0, 40.0, 0.0]
-    per_frame = np.stack([img, img, 2 * img])
-    t = ex.threshold_sensitivity({"one": img, "moving": per_frame}, bg, masks, at=(2, 3),
-                                 thresholds=(8, 16, 32))
-    assert list(t.index) == [8, 16, 32]
-    assert list(t.columns) == ["one, frame 2", "moving, frame 2", "one, frame 3", "moving, frame 3"]
-    assert t.loc[8.0, "one, frame 2"] == 1.5          # 3 pixels above 8 on the paths, 2 px per frame
-    assert t.loc[32.0, "moving, frame 3"] == 1.0   # 2 * img: 40 and 80 above 32
-    assert t.loc[16.0, "one, frame 3"] == round(ex.ghost_area(img, bg, masks[:3].any(axis=0), 2.0, 16), 2)
-    with pytest.raises(ValueError, match="images"):
-        ex.threshold_sensitivity({"short": per_frame[:1]}, bg, masks, at=(2,))
-    with pytest.raises(ValueError, match="at"):
-        ex.threshold_sensitivity({"one": img}, bg, masks, at=(4,))
-    with pytest.raises(TypeError, match="mapping"):
-        ex.threshold_sensitivity([img], bg, masks)
-
-
-def test_draw_verdict_and_note_state_the_half_rule():
-    assert ex.draw_verdict(True, 0.5) == "qualitative"
-    assert ex.draw_verdict(True, 0.49) == "differs"
-    assert ex.draw_verdict(False, 1.0) == "differs"
-    assert ex.verdict_note(True, 0.6) == "seen on both stand-ins"
-    assert ex.verdict_note(False, 0.0) == "not seen: not on the real video, in none of the draws"
-    assert ex.verdict_note(True, 0.25) == "not seen: only in 25% of the draws"
-    with pytest.raises(ValueError, match="fraction"):
-        ex.draw_verdict(True, 1.5)
 
 
 # --- printed numbers ----------------------------------------------------------------------------
@@ -262,7 +86,9 @@ def test_printed_frame_2_and_4_arithmetic():
     t4 = ex.frame4_table()
     assert len(t4) == 6 and set(t4["route"]) == set(nv.METHODS)
     t8 = ex.frame8_table(priors=(2, 3), ratios=(1.0,))
-    assert list(t8.index) == [2, 3] and list(t8.columns) == ["novel frames so far", "F_8,2 at r = 1.0"]
+    assert t8["earlier updates m"].tolist() == [2, 3]
+    assert list(t8.columns) == ["earlier updates m", "F_8,2 at r = 1.0", "r for the printed F_8,2"]
+    assert t8.loc[1, "r for the printed F_8,2"] == pytest.approx(0.988, abs=5e-4)
     with pytest.raises(ValueError, match="prior"):
         ex.second_fraction(0.01, 0)
 
@@ -281,31 +107,34 @@ def test_residual_location_and_noise():
     assert table.iloc[0, 0] == "0.0% - 1.6%"
 
 
-def test_contrast_calibration_hits_the_target_novelty():
+def test_rank_margin_and_second_fraction():
     frames, _ = _toy_sequence(8)
     b, dev = ex.median_background(frames)
-    n_full = ex.first_novelty(ex.contrast_scaled(b, dev, 1.0))
-    alpha = ex.calibrate_contrast(b, dev, target=n_full / 4, lo=0.01, hi=1.0)
-    assert ex.first_novelty(ex.contrast_scaled(b, dev, alpha)) == pytest.approx(n_full / 4, rel=1e-5)
-    recs, row = ex.fig2_pattern(frames)
-    assert len(recs) == 8 and row["n_2"] == f"{recs[1].novelty:.4f}"
     assert ex.max_second_fraction(_recs([True, False])) == pytest.approx(0.1)
     assert ex.max_second_fraction(_recs([False])) == 0.0
     margin = ex.rank_margin(b, dev, (1, 4))
     assert list(margin.index) == [1, 4]
-    with pytest.raises(ValueError, match="frames"):
-        ex.fig2_pattern(frames[:5])
+    assert margin.loc[4, "largest F_i,2"] >= margin.loc[1, "largest F_i,2"]
 
 
-def test_energy_kept_and_rms_ratio():
-    frames, bg = _toy_sequence(6)
+def test_calibrate_real_hits_both_printed_novelties():
+    frames, _ = _toy_sequence(8, side=24)
+    out = ex.calibrate_real(frames, np.random.default_rng(0), target_rms=40.0)
+    assert ex.novelty_against_first(out["frames"], 2) == pytest.approx(0.0018, rel=1e-5)
+    assert ex.novelty_against_first(out["frames (n_4)"], 4) == pytest.approx(0.0025, rel=1e-5)
+    assert out["gain"] == pytest.approx(40.0 / np.sqrt(np.mean(frames[0].astype(float) ** 2)))
+    assert out["added noise"] == pytest.approx(out["camera noise"] * np.sqrt(1 - out["gain"] ** 2))
+    assert out["masks"].shape == frames.shape
+    with pytest.raises(ValueError, match="darker"):
+        ex.calibrate_real(frames, np.random.default_rng(0), target_rms=500.0)
+
+
+def test_energy_kept_table():
+    frames, _ = _toy_sequence(6)
     t = ex.energy_kept_table({"toy": frames}, settings=((0.0, 0.9999),))
-    kept, best = (float(t.loc[0, c].rstrip("%")) for c in ("energy kept", "batch optimum, same number"))
-    assert 99.99 - 1e-9 <= kept <= best <= 100.0
-    assert float(t.loc[0, "loss / (1 - T_I)"]) <= 1.0 + 1e-9
-    f = np.stack([bg + 2.0, bg - 2.0])
-    assert ex.rms_ratio(bg + 1.0, f, bg) == pytest.approx(0.5)
-    assert ex.rms_ratio(bg, f, bg) == 0.0
+    kept, best = t.loc[0, "energy kept (%)"], t.loc[0, "batch optimum (%)"]
+    assert 99.99 - 1e-9 <= kept <= best + 1e-9 <= 100.0 + 1e-9
+    assert t.loc[0, "loss / (1 - T_I)"] <= 1.0 + 1e-9
 
 
 # --- aircraft -----------------------------------------------------------------------------------
@@ -390,13 +219,225 @@ def test_streaming_comparison_batch_is_best():
 
 
 # --- plots --------------------------------------------------------------------------------------
-def test_plot_frame_panels_layout():
+def test_plot_fig2_and_fig3_panels_layout():
     import matplotlib.pyplot as plt
 
     frames, _ = _toy_sequence(4)
     recs = nv.process_sequence(frames, 0.0, 1.0)
-    fig = ex.plot_frame_panels(recs, frames, [3], "t", show_eigenimage=True)
-    assert len(fig.axes) == 4 and fig.axes[0].get_title() == "input"
+    fig = ex.plot_fig2_panels(recs, frames, [2, 3, 4])
+    assert len(fig.axes) == 6 and fig.axes[0].get_title().startswith("frame 2: $n$ =")
+    plt.close(fig)
+    fig = ex.plot_fig3_panels(recs, frames, [3, 4])
+    assert len(fig.axes) == 6 and fig.axes[2].get_title() == "first eigenimage"
     plt.close(fig)
     with pytest.raises(ValueError, match="picks"):
-        ex.plot_frame_panels(recs, frames, [9], "t")
+        ex.plot_fig2_panels(recs, frames, [9])
+    with pytest.raises(ValueError, match="picks"):
+        ex.plot_fig2_panels(recs, frames, [1, 2, 3, 4])
+
+
+# --- printed numbers: the frame-8 closed form and the local-change bound -----------------------
+def test_second_fraction_closed_form_matches_the_filter():
+    for m, r in ((1, 1.0), (3, 0.9), (3, 1.1), (4, 0.5)):
+        assert ex.second_fraction_closed_form(0.005841, m, r) == pytest.approx(
+            float(ex.second_fraction(0.005841, m, r)[1][1]), rel=1e-7)
+    roots = ex.energy_ratios_needed(0.005841, 0.001090, 2)
+    assert len(roots) == 2 and roots[0] < 1 < roots[1]
+    for r in roots:
+        assert ex.second_fraction_closed_form(0.005841, 2, r) == pytest.approx(0.001090, rel=1e-9)
+    assert ex.energy_ratios_needed(0.001, 0.4, 3) == []          # F_2 too large for that novelty
+    with pytest.raises(ValueError, match="prior"):
+        ex.second_fraction_closed_form(0.01, 0)
+
+
+def test_local_change_bound_is_reached_by_rescaling_and_exceeded_otherwise():
+    rng = np.random.default_rng(4)
+    a = rng.uniform(20, 200, 400)
+    region = np.zeros(400, bool)
+    region[:300] = True
+    p = float(a[region] @ a[region] / (a @ a))
+    for r in (0.66, 0.95, 1.3):
+        bound = ex.local_change_novelty_bound(p, r)
+        assert ex.local_change_novelty(a, region, r) == pytest.approx(bound, abs=1e-12)
+        assert ex.local_change_novelty(a, region, r, np.random.default_rng(1)) >= bound - 1e-12
+    assert ex.local_change_novelty_bound(0.1, 0.5) == float("inf")     # too little energy to lose half
+    p_star = ex.min_energy_share(0.005841, 0.659)
+    assert ex.local_change_novelty_bound(p_star, 0.659) == pytest.approx(0.005841, rel=1e-6)
+    assert 0.85 < p_star < 0.95
+    with pytest.raises(ValueError, match="region"):
+        ex.local_change_novelty(a, region[:10], 0.9)
+    with pytest.raises(ValueError, match="too little"):
+        ex.local_change_novelty(a, np.arange(400) < 5, 0.5)
+
+
+# --- equations ----------------------------------------------------------------------------------
+def test_eq12_first_form_is_i_minus_one_times_the_projection():
+    frames, _ = _toy_sequence(6)
+    for m in (1, 3, 5):
+        out = ex.eq12_forms(frames[:m].astype(float), frames[m].astype(float))
+        assert out["i"] == m + 1
+        assert out["form 1 / form 2"] == pytest.approx(m, rel=1e-9)
+        assert out["form 2 vs projection"] < 1e-9
+        assert out["n (Eq. 7)"] == pytest.approx(out["|x - x_hat|^2 / |x|^2"], rel=1e-9)
+    with pytest.raises(ValueError, match="test"):
+        ex.eq12_forms(frames[:2], frames[0, :3])
+
+
+def test_vip_ranks_of_r_and_c():
+    rng = np.random.default_rng(0)
+    bg, pats = rng.random(50), rng.random((2, 50))
+    low = np.array([bg + rng.standard_normal(2) @ pats for _ in range(10)])
+    assert ex.vip_ranks(low) == (3, 2)                            # the mean adds one
+    assert ex.vip_ranks(np.array([c * bg for c in (1.0, 2.0, 3.0)])) == (1, 1)   # mean in the span
+    assert ex.vip_ranks(rng.random((5, 30))) == (5, 4)
+
+
+# --- the calibrated scene -------------------------------------------------------------------------
+_SMALL = dict(shape=(48, 48), background_height=10.0, foreground_height=20.0, noise_std=1.2)
+
+
+def test_novelty_against_first_is_the_filters():
+    frames, _ = _toy_sequence(5)
+    f = nv.NoveltyFilter(0.002, 0.95)
+    f.partial_fit(frames[0])
+    assert ex.novelty_against_first(frames, 4) == f.novelty(frames[3])
+    with pytest.raises(ValueError, match="j"):
+        ex.novelty_against_first(frames, 9)
+
+
+def test_gain_and_contrast_calibrations_hit_their_targets():
+    from projtrack.scenes.sequences import walking_sequence
+
+    g = ex.calibrate_gain(9, np.random.default_rng(1), target_rms=60.0, **_SMALL)
+    rms = [np.sqrt(np.mean(walking_sequence(r, n_frames=1, gain=g, **_SMALL).frames[0].astype(float) ** 2))
+           for r in np.random.default_rng(1).spawn(9)]
+    assert np.median(rms) == pytest.approx(60.0, abs=0.2)      # rounding to 8 bits makes it a fine staircase
+    a, floor = ex.calibrate_contrast(9, np.random.default_rng(2), 0.004, 2, gain=g, **_SMALL)
+    nov = [ex.novelty_against_first(walking_sequence(r, n_frames=2, people_contrast=a, gain=g, **_SMALL).frames, 2)
+           for r in np.random.default_rng(2).spawn(9)]
+    assert np.median(nov) == pytest.approx(0.004, rel=3e-2) and floor < 0.004   # a staircase on 48 x 48 px
+    a, floor = ex.calibrate_contrast(9, np.random.default_rng(2), 1e-6, 2, gain=g, **_SMALL)
+    assert np.isnan(a) and floor > 1e-6                           # noise alone is already more novel
+    table = ex.calibrate_readings({"r": dict(background_speed=1.0)}, 5, 3, with_n4=False)
+    assert list(table.columns) == ["reading", "gain", "contrast (n_2)", "floor"]
+
+
+def test_frame2_quiet_reads_the_same_draws_as_reading_draws():
+    kw = dict(_SMALL, gain=0.5, people_contrast=0.8, n_frames=20, entry_frame=6)
+    table, nov = ex.reading_draws(4, np.random.default_rng(5), **kw)
+    share, med = ex.frame2_quiet(4, np.random.default_rng(5), **{k: v for k, v in kw.items() if k != "n_frames"})
+    assert share == float(np.mean(table["n_2"] <= 0.002)) and med == pytest.approx(float(np.median(table["n_2"])))
+    again, _ = ex.reading_draws(4, np.random.default_rng(5), **kw)
+    pd.testing.assert_frame_equal(table, again)
+    assert nov.shape == (4, 20) and list(table.index) == [0, 1, 2, 3]
+
+
+def test_sequence_readings_on_a_toy_sequence():
+    frames, bg = _toy_sequence(20, side=24)
+    masks = np.zeros(frames.shape, bool)
+    masks[:, 4:8, :] = True
+    out = ex.sequence_readings(frames, bg, masks, entry=8)
+    assert out["updates (Fig. 3)"] >= out["updates (Fig. 2)"]
+    assert np.isnan(out["memory, person"]) and np.isnan(out["F1 (Fig. 2)"])
+    assert out["novelty"].shape == (20,) and out["novelty"][0] == 1.0
+    assert {c for c in ex.CLAIMS if not c.startswith(("better novelty", "person remembered"))} == set(ex.real_claims(out))
+    with pytest.raises(ValueError, match="masks"):
+        ex.sequence_readings(frames, bg, masks[:3])
+    with pytest.raises(ValueError, match="at least 20"):
+        ex.sequence_readings(frames[:12], bg, masks[:12])
+
+
+def test_ghost_rms_memory_and_novel_pixel_quality():
+    bg = np.zeros((2, 2))
+    paths = np.array([[True, False], [False, False]])
+    assert ex.ghost_rms(np.full((2, 2), 3.0), bg, paths) == 3.0
+    assert ex.ghost_rms(bg, bg, np.zeros((2, 2), bool)) == 0.0
+    recs = _recs([True] * 5, shape=(2, 2))
+    for r, g in zip(recs, (20.0, 12.0, 9.0, 7.0, 5.0)):     # the ghost fades below T_f = 8 at frame 4
+        r.first_eigenimage[0, 0] = g
+    obj = np.zeros((5, 2, 2), bool)
+    obj[0, 0, 0] = True                                     # present in frame 1 only, left for good
+    assert ex.memory_updates(recs, obj, obj, bg) == 2.0     # visible after the updates of frames 2, 3
+    assert np.isnan(ex.memory_updates(recs, np.zeros_like(obj), obj, bg))
+    figs = np.zeros((5, 2, 2), bool)
+    figs[2:, 0, 0] = True
+    recs[2].novel_pixels[0, 0] = recs[2].novel_pixels[1, 1] = True    # one hit, one smear
+    recs[3].novel_pixels[0, 0] = True                                 # one hit; frame 5: one miss
+    assert ex.novel_pixel_quality(recs, figs, 3) == pytest.approx(2 * 2 / (2 * 2 + 1 + 1))
+    with pytest.raises(ValueError, match="masks"):
+        ex.novel_pixel_quality(recs, figs[:2], 3)
+
+
+def test_threshold_sweep_marks_fewer_frames_as_t_d_grows():
+    t = ex.threshold_sweep(3, np.random.default_rng(0), (0.001, 0.01, 0.1), people_contrast=1.0, **_SMALL)
+    assert list(t["T_d"]) == [0.001, 0.01, 0.1]
+    assert t["updates, frames 2-7"].is_monotonic_decreasing and t["frame 8 novel"].is_monotonic_decreasing
+
+
+def test_ghost_decay_follows_c_d_over_n():
+    rng = np.random.default_rng(0)
+    bg = 60.0 + 20.0 * rng.random((64, 64))
+    d = ex.ghost_decay(bg, [-20.0, 30.0], dwell=2, n_frames=8, patch=(slice(5, 10), slice(5, 10)))
+    assert len(d) == 16
+    np.testing.assert_allclose(d["ghost"], d["c d / N"], rtol=0.02)
+
+
+# --- readings and the verdict rule --------------------------------------------------------------
+def _draw_rows():
+    return pd.DataFrame({
+        "order 2-4": [True, False, False, False], "entry marked": [True, True, False, False],
+        "max kept (Fig. 2)": [1, 1, 1, 2], "max kept (Fig. 3)": [3, 4, 2, 3], "second at 8": [True, True, False, True],
+        "ghost 10, Fig. 3": [0.1, 0.5, 0.2, 0.0], "ghost 20, Fig. 3": [0.1, 0.0, 0.2, 0.0],
+        "ghost 10, frame 1": [0.5, 0.5, 0.5, 0.1], "ghost 20, frame 1": [0.5, 0.5, 0.5, 0.1],
+        "updates (Fig. 3)": [24, 20, 22, 24], "updates (Fig. 2)": [20, 20, 21, 24],
+        "background error 10, Fig. 3": [1.0, 2.0, 1.0, 1.0], "background error 10, Fig. 2": [2.0, 1.0, 2.0, 1.0],
+        "background error 20, Fig. 3": [1.0, 1.0, 1.0, 1.0], "background error 20, Fig. 2": [2.0, 2.0, 2.0, 1.0],
+        "F1 (Fig. 3)": [0.8, 0.7, 0.9, 0.5], "F1 (Fig. 2)": [0.7, 0.8, 0.8, 0.5],
+        "memory, person": [2.0, 0.0, 1.0, np.nan], "memory, walkers": [1.0, 1.0, 1.0, 0.0],
+        **{f"ghost {j}, {k}, T_f {t}": v for t, (e1, f1) in {12: ([0.1] * 4, [0.5] * 4), 16: ([0.1] * 4, [0.1] * 4)}.items()
+           for j in (10, 20) for k, v in (("Fig. 3", e1), ("frame 1", f1))},
+        **{f"memory, {w}, T_f {t}": [0.0] * 4 for t in (12, 16) for w in ("person", "walkers")}})
+
+
+def test_claim_shares_and_tables():
+    s = ex.claim_shares(_draw_rows())
+    assert s["frames 2-3 quiet, 4 novel"] == 0.25 and s["entry marked"] == 0.5
+    assert s["one eigenimage throughout"] == 0.75 and s["up to 3, second from 8"] == 0.5
+    assert s["first eigenimage clean"] == 0.5            # draw 3 passes but so does its frame 1
+    assert s["first eigenimage clean (T_f 12)"] == 1.0 and s["first eigenimage clean (T_f 16)"] == 0.0
+    assert s["more updates"] == 0.5 and s["cleaner first eigenimage"] == 0.5
+    assert s["better novelty data"] == 0.5 and s["person remembered longer"] == 0.25
+    t = ex.claim_table({"x": s, "y": s}, ["entry marked"], {"extra": {"x": 1.5}}, readings=["x"])
+    assert t.to_dict("records") == [{"reading": "x", "entry marked": 0.5, "extra": 1.5}]
+    assert ex.medians({"x": _draw_rows()}, {"F1": "F1 (Fig. 3)"}) == {"F1": {"x": 0.75}}
+    assert ex.shares_text({"x": 0.5, "y": 0.25}) == "0.500 / 0.250"
+    real = ex.real_table({"v": _draw_rows().iloc[0].to_dict()}, ["entry marked", "better novelty data"],
+                         {"n": {"v": "0.1"}})
+    assert real.to_dict("records") == [{"video": "v", "entry marked": "yes", "n": "0.1"}]
+    with pytest.raises(ValueError, match="unknown claims"):
+        ex.claim_shares(_draw_rows(), ["nope"])
+    with pytest.raises(ValueError, match="non-empty"):
+        ex.claim_shares(_draw_rows().iloc[:0])
+
+
+def test_verdict_rule_and_its_edge():
+    assert ex.verdict({"a": 0.3, "b": 0.6}, None, 40) == ("qualitative", ["b"], [])
+    assert ex.verdict({"a": 0.3}, {"video": True}, 40) == ("qualitative", ["video"], [])
+    assert ex.verdict({"a": 0.3, "b": 0.45}, {"video": False}, 40) == ("differs", [], [])
+    assert ex.verdict({"a": 0.5}, None, 40) == ("qualitative", ["a"], ["a"])          # one draw from failing
+    assert ex.verdict({"a": 0.475}, None, 40) == ("differs", [], ["a"])              # one draw from passing
+    assert ex.verdict({"a": 0.5, "b": 0.9}, None, 40)[2] == []                        # b decides firmly
+    assert ex.share_tolerance(40).atol == pytest.approx(0.025)
+
+
+# --- aircraft additions -------------------------------------------------------------------------
+def test_effective_rank_curve_and_threshold_sweep(toy_classes):
+    train, tests, bases = toy_classes
+    curve = ex.effective_rank_curve(tests, bases, (0.0, 50.0), 2, 0, m_max=3)
+    pd.testing.assert_frame_equal(curve, ex.effective_rank_curve(tests, bases, (0.0, 50.0), 2, 0, m_max=3))
+    assert list(curve["sigma"]) == [0.0, 50.0]
+    assert curve.loc[0, "recognized, best m"] == 12.0 and curve.loc[0, "effective rank"] == 1
+    assert curve["three suffice"].dtype == bool
+    sweep = ex.aircraft_threshold_sweep(train, {c: tests[c].reshape(4, 6, 6) for c in tests}, (0.0, 0.5))
+    assert list(sweep.columns) == ["T_d", "images used per class", "eigenimages per class", "recognized"]
+    assert sweep.loc[0, "images used per class"] == "8 of 8" and sweep.loc[0, "recognized"].endswith("of 12")

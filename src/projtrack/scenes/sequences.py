@@ -12,6 +12,7 @@ round values chosen from the paper's description of its scene.
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
 import numpy as np
@@ -19,8 +20,8 @@ from scipy import ndimage
 
 from projtrack._validation import as_int, as_real, as_rng, as_shape2, only_value_errors
 
-__all__ = ["WalkingSequence", "PlazaExcerpt", "load_plaza_excerpt", "textured_background",
-           "walking_sequence"]
+__all__ = ["WalkingSequence", "WalkingLayers", "PlazaExcerpt", "load_plaza_excerpt",
+           "textured_background", "walking_layers", "walking_sequence"]
 
 
 @dataclass(frozen=True)
@@ -138,27 +139,53 @@ def _person(rows: np.ndarray, cols: np.ndarray, r: float, c: float, height: floa
     return body | head
 
 
-def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
-                     shape: tuple[int, int] = (128, 128), n_background_figures: int = 2,
-                     entry_frame: int = 8, background_height: float = 14.0,
-                     foreground_height: float = 48.0, background_speed: float = 2.0,
-                     foreground_speed: float = 7.0, figure_grey: float = 45.0,
-                     jitter: float = 0.25, noise_std: float = 2.0) -> WalkingSequence:
-    """A fixed-camera sequence of people walking, with ground truth (Figs. 2-3 stand-in).
+@dataclass(frozen=True)
+class WalkingLayers:
+    """One draw of :func:`walking_sequence` before the people's contrasts are applied and it is rounded.
 
-    ``n_background_figures`` small figures (height ``background_height`` px) walk
-    horizontally across the upper half at ``background_speed`` px/frame (random rows, start
-    columns and directions drawn from ``rng``); from frame ``entry_frame`` (1-based) a large
-    figure (``foreground_height`` px) enters the lower half from the left at
-    ``foreground_speed`` px/frame.  Figures have grey level ``figure_grey`` with the
-    background texture showing through at 20 %.  Every frame is shifted by an independent
-    normal sub-pixel camera jitter (std ``jitter`` px, bilinear) and Gaussian sensor noise
-    (std ``noise_std`` grey levels) is added before rounding and clipping to uint8.
+    ``frames(people_contrast, foreground_contrast)`` gives the 8-bit frames
+    ``clip(rint(base + people_contrast walkers + foreground_contrast person))``: the draw of
+    :func:`walking_sequence` with those contrasts, bit for bit, so a study can vary the
+    contrasts of one draw without drawing it again.
 
-    Returns
-    -------
-    WalkingSequence
+    Attributes
+    ----------
+    base : ndarray (n_frames, H, W) float
+        The exposed scene behind the people plus the sensor noise.
+    walkers, person : ndarray (n_frames, H, W) float
+        How far the background walkers and the entering person depart from the scene behind
+        them at contrast 1 (exposed; zero elsewhere).
+    masks, foreground_masks, background, offsets, entry_frame
+        As in :class:`WalkingSequence`.
     """
+
+    base: np.ndarray
+    walkers: np.ndarray
+    person: np.ndarray
+    masks: np.ndarray
+    foreground_masks: np.ndarray
+    background: np.ndarray
+    offsets: np.ndarray
+    entry_frame: int
+
+    def frames(self, people_contrast: float = 1.0, foreground_contrast: float | None = None) -> np.ndarray:
+        """The 8-bit frames with the given contrasts (``foreground_contrast`` defaults to ``people_contrast``)."""
+        _as_level(people_contrast, "people_contrast")
+        if foreground_contrast is None:
+            foreground_contrast = people_contrast
+        _as_level(foreground_contrast, "foreground_contrast")
+        x = self.base + people_contrast * self.walkers + foreground_contrast * self.person
+        return np.clip(np.rint(x), 0, 255).astype(np.uint8)
+
+
+def walking_layers(rng: np.random.Generator, n_frames: int = 24,
+                   shape: tuple[int, int] = (128, 128), n_background_figures: int = 2,
+                   entry_frame: int = 8, background_height: float = 14.0,
+                   foreground_height: float = 48.0, background_speed: float = 2.0,
+                   foreground_speed: float = 7.0, figure_grey: float = 45.0,
+                   jitter: float = 0.25, noise_std: float = 2.0, gain: float = 1.0,
+                   jitter_frames: Sequence[int] | None = None) -> WalkingLayers:
+    """The layers of a :func:`walking_sequence` draw (its parameters but the contrasts; see there)."""
     rng = as_rng(rng)
     h, w = _check_shape(shape)
     n_frames = only_value_errors(as_int, n_frames, "n_frames", minimum=1)
@@ -169,21 +196,34 @@ def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
                     ("foreground_height", foreground_height),
                     ("background_speed", background_speed),
                     ("foreground_speed", foreground_speed), ("figure_grey", figure_grey),
-                    ("jitter", jitter), ("noise_std", noise_std)):
+                    ("jitter", jitter), ("noise_std", noise_std), ("gain", gain)):
         _as_level(v, name)
+    if jitter_frames is not None:
+        try:
+            jitter_frames = frozenset(only_value_errors(as_int, f, "jitter_frames", minimum=1)
+                                      for f in jitter_frames)
+        except TypeError:
+            raise ValueError("jitter_frames must be a sequence of 1-based frame numbers") from None
     background = textured_background((h, w), rng)
     rows, cols = np.mgrid[0:h, 0:w].astype(float)
     # background walkers: feet row in the upper half, random start and direction
     feet = rng.uniform(0.25 * h, 0.5 * h, n_background_figures)
     start = rng.uniform(0.1 * w, 0.9 * w, n_background_figures)
     direction = rng.choice([-1.0, 1.0], n_background_figures)
-    offsets = rng.normal(0.0, jitter, (n_frames, 2)) if jitter > 0 else np.zeros((n_frames, 2))
-    noise = rng.normal(0.0, noise_std, (n_frames, h, w))
-    frames = np.empty((n_frames, h, w), dtype=np.uint8)
+    offsets = np.zeros((n_frames, 2))
+    base = np.empty((n_frames, h, w))
+    walkers = np.zeros((n_frames, h, w))
+    person = np.zeros((n_frames, h, w))
     masks = np.zeros((n_frames, h, w), dtype=bool)
     fg_masks = np.zeros((n_frames, h, w), dtype=bool)
     for t in range(n_frames):
-        scene = ndimage.shift(background, offsets[t], order=1, mode="nearest")
+        # drawn frame by frame, always (even when jitter or noise_std is 0): the first k frames
+        # are the same for any n_frames >= k, and for any jitter, noise, gain and contrasts
+        offsets[t] = jitter * rng.standard_normal(2) * (jitter_frames is None or t + 1 in jitter_frames)
+        noise = noise_std * rng.standard_normal((h, w))
+        # an in-sync frame is the background itself (a zero bilinear shift changes no value)
+        scene = (ndimage.shift(background, offsets[t], order=1, mode="nearest") if offsets[t].any()
+                 else background)
         m = np.zeros((h, w), dtype=bool)
         for k in range(n_background_figures):
             c = (start[k] + direction[k] * background_speed * t) % w
@@ -192,8 +232,53 @@ def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
         if entry_frame >= 1 and t + 1 >= entry_frame:
             c = -0.1 * foreground_height + foreground_speed * (t + 1 - entry_frame) + 0.2 * foreground_height
             fg = _person(rows, cols, 0.92 * h, c, foreground_height)
-        m |= fg
-        scene = np.where(m, 0.8 * figure_grey + 0.2 * scene, scene)
-        frames[t] = np.clip(np.rint(scene + noise[t]), 0, 255).astype(np.uint8)
-        masks[t], fg_masks[t] = m, fg
-    return WalkingSequence(frames, masks, fg_masks, background, offsets, int(entry_frame))
+        figure = gain * 0.8 * (figure_grey - scene)   # a figure's departure from the scene behind it
+        base[t] = gain * scene + noise
+        person[t] = np.where(fg, figure, 0.0)
+        walkers[t] = np.where(m & ~fg, figure, 0.0)    # the person in front where they overlap
+        masks[t], fg_masks[t] = m | fg, fg
+    return WalkingLayers(base, walkers, person, masks, fg_masks, background, offsets, int(entry_frame))
+
+
+def walking_sequence(rng: np.random.Generator, n_frames: int = 24,
+                     shape: tuple[int, int] = (128, 128), n_background_figures: int = 2,
+                     entry_frame: int = 8, background_height: float = 14.0,
+                     foreground_height: float = 48.0, background_speed: float = 2.0,
+                     foreground_speed: float = 7.0, figure_grey: float = 45.0,
+                     jitter: float = 0.25, noise_std: float = 2.0, gain: float = 1.0,
+                     people_contrast: float = 1.0, foreground_contrast: float | None = None,
+                     jitter_frames: Sequence[int] | None = None) -> WalkingSequence:
+    """A fixed-camera sequence of people walking, with ground truth (Figs. 2-3 stand-in).
+
+    ``n_background_figures`` small figures (height ``background_height`` px) walk
+    horizontally across the upper half at ``background_speed`` px/frame (random rows, start
+    columns and directions drawn from ``rng``); from frame ``entry_frame`` (1-based) a large
+    figure (``foreground_height`` px) enters the lower half from the left at
+    ``foreground_speed`` px/frame.  Figures have grey level ``figure_grey`` with the
+    background texture showing through at 20 %.  Every frame is shifted by an independent
+    normal sub-pixel camera jitter (std ``jitter`` px, bilinear; with ``jitter_frames``, only
+    those 1-based frames are shifted and the others are in sync) and Gaussian sensor noise
+    (std ``noise_std`` grey levels) is added before rounding and clipping to uint8.  Jitter and
+    noise are drawn frame by frame, so the first ``k`` frames of a draw do not depend on
+    ``n_frames``.
+
+    Three knobs change the scene without changing its random draw (the same ``rng`` gives the
+    same texture, paths, jitter and noise whatever their values):
+
+    - ``gain`` multiplies the scene's grey levels (background and figures) before the noise is
+      added: a darker or brighter exposure of the same scene with the same sensor noise;
+    - ``people_contrast`` scales how far the background walkers depart from the scene behind
+      them (1: grey level ``figure_grey`` with 20 % of the texture showing through; 0:
+      invisible), like ``B + alpha (x - B)`` on a recorded video;
+    - ``foreground_contrast`` does the same for the entering person (default: the same as
+      ``people_contrast``).
+
+    Returns
+    -------
+    WalkingSequence
+    """
+    layers = walking_layers(rng, n_frames, shape, n_background_figures, entry_frame, background_height,
+                            foreground_height, background_speed, foreground_speed, figure_grey, jitter,
+                            noise_std, gain, jitter_frames)
+    return WalkingSequence(layers.frames(people_contrast, foreground_contrast), layers.masks,
+                           layers.foreground_masks, layers.background, layers.offsets, layers.entry_frame)

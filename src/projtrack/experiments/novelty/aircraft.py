@@ -209,3 +209,71 @@ def classifier_noise_draw(rng: np.random.Generator, classifiers: Sequence[Novelt
     noise = rng.standard_normal(clean.shape)
     return [tuple(float(np.mean(c.predict(clean + s * noise) == truth)) for c in classifiers)
             for s in sigmas]
+
+
+def effective_rank_curve(tests: Mapping[str, np.ndarray], bases: Mapping[str, KLBasis],
+                         sigmas: Sequence[float], n_draws: int, seed: int, m_max: int = 8,
+                         *, n_jobs: int | None = None) -> pd.DataFrame:
+    """The effective rank (:func:`effective_rank`) as a function of the noise ``sigma``.
+
+    Every ``sigma`` uses the same noise draws (the children of
+    ``numpy.random.default_rng(seed)``, scaled), so the curve moves with ``sigma`` only.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per ``sigma``: the mean number of the test images recognized with one eigenimage and with
+        the best ``m`` (out of ``N`` test images), the effective rank, and whether three
+        eigenimages do as well as the best ``m`` (within one test image).
+    """
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    seed = as_int(seed, "seed", minimum=0)
+    total = sum(len(t) for t in tests.values())
+    rows = []
+    for s in sigmas:
+        rate = noise_rate_draws(tests, bases, s, n_draws, np.random.default_rng(seed), m_max,
+                                n_jobs=n_jobs).mean(axis=0)
+        rows.append({"sigma": float(s), "recognized, m = 1": float(total * rate[0]),
+                     "recognized, best m": float(total * rate.max()),
+                     "effective rank": effective_rank(rate, total),
+                     "three suffice": bool(rate[min(2, m_max - 1)] >= rate.max() - 1 / total - 1e-12)})
+    return pd.DataFrame(rows)
+
+
+def threshold_sweep(train: Mapping[str, Any], tests: Mapping[str, Any], thresholds: Sequence[float],
+                    information_threshold: float = 0.97) -> pd.DataFrame:
+    """Per-class novelty filters for several ``T_d``: images used, eigenimages kept, recognition.
+
+    Parameters
+    ----------
+    train : mapping
+        Class -> training images ``(n, H, W)`` in the order they are fed.
+    tests : mapping
+        True class -> test images ``(k, H, W)``.
+    thresholds : sequence of float
+        The ``T_d`` values.
+    information_threshold : float
+        ``T_I``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per ``T_d``: the training images used per class (range), the eigenimages kept per class
+        (range) and the test images recognized (of all).
+    """
+    names = list(train)
+    x = np.concatenate([np.asarray(train[n]) for n in names])
+    y = np.repeat(names, [len(train[n]) for n in names])
+    tx = np.concatenate([np.asarray(tests[n]) for n in tests]).astype(float)
+    ty = np.repeat(list(tests), [len(tests[n]) for n in tests])
+    rows = []
+    for td in thresholds:
+        clf = NoveltyClassifier(novelty_threshold=as_probability(td, "thresholds"),
+                                information_threshold=information_threshold).fit(x, y)
+        used = [clf.filters_[n].n_updates_ for n in names]
+        kept = [clf.filters_[n].rank_ for n in names]
+        span = f"{min(used)}" if min(used) == max(used) else f"{min(used)}-{max(used)}"
+        rows.append({"T_d": float(td), "images used per class": f"{span} of {len(train[names[0]])}",
+                     "eigenimages per class": f"{min(kept)}-{max(kept)}" if min(kept) != max(kept) else f"{kept[0]}",
+                     "recognized": f"{int(np.sum(clf.predict(tx) == ty))} of {len(ty)}"})
+    return pd.DataFrame(rows)

@@ -3,9 +3,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numpy as np
+
 from projtrack.novelty import TABLE1_FLOW, TABLE1_STEPS
 
-__all__ = ["plot_block_diagram", "plot_frame_panels"]
+__all__ = ["plot_block_diagram", "plot_fig2_panels", "plot_fig3_panels"]
 
 
 def plot_block_diagram(ax=None):
@@ -38,14 +40,14 @@ def plot_block_diagram(ax=None):
             ax.add_patch(FancyBboxPatch((-w / 2, y - h / 2), w, h,
                                         boxstyle="round,pad=0.02,rounding_size=0.12",
                                         fc="#e8eef7" if s else "#dddddd", ec="k", lw=0.8))
-        ax.text(0, y, label, ha="center", va="center", fontsize=7.2)
+        ax.text(0, y, label, ha="center", va="center", fontsize=8.0)
     for a, b, cond in TABLE1_FLOW:
         ya, yb = ypos[a], ypos[b]
         if yb == ya - 1:     # straight down
             ax.annotate("", xy=(0, yb + h / 2 + 0.02), xytext=(0, ya - h / 2 - 0.02),
                         arrowprops=dict(arrowstyle="-|>", lw=0.8, color="k"))
             if cond:
-                ax.text(0.08, (ya + yb) / 2, cond, fontsize=6.5, va="center", style="italic")
+                ax.text(0.08, (ya + yb) / 2, cond, fontsize=7.5, va="center", style="italic")
         else:                # loop back on a side
             side = 1 if cond == "not novel" else -1
             x0 = side * w / 2
@@ -53,7 +55,7 @@ def plot_block_diagram(ax=None):
             ax.annotate("", xy=(x0 if b not in decisions else side * w / 2, yb),
                         xytext=(xs, yb), arrowprops=dict(arrowstyle="-|>", lw=0.8, color="k"))
             ax.plot([x0, xs, xs], [ya, ya, yb], color="k", lw=0.8)
-            ax.text(xs + side * 0.08, (ya + yb) / 2, cond, fontsize=6.5, style="italic",
+            ax.text(xs + side * 0.08, (ya + yb) / 2, cond, fontsize=7.5, style="italic",
                     rotation=90, va="center", ha="left" if side > 0 else "right")
     ax.set_xlim(-w / 2 - 1.0, w / 2 + 1.0)
     ax.set_ylim(ypos[0] - 0.6, 0.6)
@@ -61,22 +63,18 @@ def plot_block_diagram(ax=None):
     return ax
 
 
-def plot_frame_panels(records: Sequence, frames, picks: Sequence[int], title: str,
-                      show_eigenimage: bool = False):
-    """The panels of Figs. 2-3: for each picked frame, the input, its novel pixels and the readings.
+def plot_fig2_panels(records: Sequence, frames, picks: Sequence[int]):
+    """Fig. 2 as panels: the input frames ``picks`` (top row) and their novel pixels (bottom row).
 
     Parameters
     ----------
     records : sequence of :class:`~projtrack.novelty.FrameRecord`
         What :func:`~projtrack.novelty.process_sequence` returned for ``frames``.
     frames : array_like, shape (I, H, W)
-        The sequence, in grey levels 0-255.
+        The sequence, in grey levels.
     picks : sequence of int
-        1-based frame numbers, one row each.
-    title : str
-        The figure's title.
-    show_eigenimage : bool
-        Add a column with the first (weighted) eigenimage after the frame (Fig. 3).
+        At most three 1-based frame numbers, one column each; the column's title gives the
+        novelty ``n_i`` and the detector's decision.
 
     Returns
     -------
@@ -84,28 +82,45 @@ def plot_frame_panels(records: Sequence, frames, picks: Sequence[int], title: st
     """
     import matplotlib.pyplot as plt
 
-    picks = [int(j) for j in picks]
-    if not picks or any(j < 1 or j > len(records) for j in picks):
-        raise ValueError(f"picks must be frame numbers in 1..{len(records)}, got {picks}")
-    ncol = 3 if show_eigenimage else 2
-    fig, axes = plt.subplots(len(picks), ncol + 1, figsize=(5.2, 1.15 * len(picks)),
-                             gridspec_kw={"width_ratios": [1] * ncol + [1.5]}, squeeze=False)
+    picks = _picks(picks, len(records))
+    top = float(np.max(frames))                  # one grey scale for the whole sequence
+    fig, axes = plt.subplots(2, len(picks), figsize=(6.4, 4.6), squeeze=False)
+    for col, j in enumerate(picks):
+        rec = records[j - 1]
+        axes[0, col].imshow(frames[j - 1], cmap="gray", vmin=0, vmax=top)
+        axes[1, col].imshow(rec.novel_pixels, cmap="gray_r", vmin=0, vmax=1)
+        axes[0, col].set_title(f"frame {j}: $n$ = {rec.novelty:.4f}\n"
+                               + ("novel: update" if rec.novel else "not novel"), fontsize=9.5)
+    axes[0, 0].set_ylabel("input", fontsize=9.5)
+    axes[1, 0].set_ylabel(r"novel pixels ($|x - \hat{x}| > T_f$)", fontsize=9.5)
+    for ax in axes.flat:
+        ax.set_xticks([]); ax.set_yticks([])
+    return fig
+
+
+def plot_fig3_panels(records: Sequence, frames, picks: Sequence[int]):
+    """Fig. 3 as panels: for each frame of ``picks`` (one row each), the input, its novel pixels and
+    the first eigenimage after the frame (weighted by the square root of its eigenvalue)."""
+    import matplotlib.pyplot as plt
+
+    picks = _picks(picks, len(records), most=4)
+    top = float(np.max(frames))
+    fig, axes = plt.subplots(len(picks), 3, figsize=(5.4, 1.75 * len(picks) + 0.4), squeeze=False)
     for row, j in zip(axes, picks):
         rec = records[j - 1]
-        row[0].imshow(frames[j - 1], cmap="gray", vmin=0, vmax=255)
+        row[0].imshow(frames[j - 1], cmap="gray", vmin=0, vmax=top)
         row[1].imshow(rec.novel_pixels, cmap="gray_r", vmin=0, vmax=1)
-        if show_eigenimage:
-            row[2].imshow(rec.first_eigenimage, cmap="gray", vmin=0, vmax=255)
-        text = [f"frame {j}", f"$n_i$ = {rec.novelty:.4f}", "novel: update" if rec.novel else "not novel"]
-        if rec.fractions is not None and j > 1:
-            text.append("F = [" + ", ".join(f"{v:.4f}" for v in rec.fractions[:3]) + "]")
-        text.append(f"eigenimages kept: {rec.rank}")
-        row[-1].text(0.0, 0.5, "\n".join(text), fontsize=7, va="center")
-        row[-1].axis("off")
-        for ax in row[:-1]:
-            ax.set_xticks([]); ax.set_yticks([])
-    heads = ["input", "novel pixels"] + (["first eigenimage"] if show_eigenimage else [])
-    for ax, h in zip(axes[0], heads):
-        ax.set_title(h, fontsize=8)
-    fig.suptitle(title, fontsize=9)
+        row[2].imshow(rec.first_eigenimage, cmap="gray", vmin=0, vmax=top)
+        row[0].set_ylabel(f"frame {j}\n{rec.rank} kept", fontsize=9.5)
+    for ax, h in zip(axes[0], ("input", "novel pixels", "first eigenimage")):
+        ax.set_title(h, fontsize=9.5)
+    for ax in axes.flat:
+        ax.set_xticks([]); ax.set_yticks([])
     return fig
+
+
+def _picks(picks: Sequence[int], n: int, most: int = 3) -> list[int]:
+    picks = [int(j) for j in picks]
+    if not picks or len(picks) > most or any(j < 1 or j > n for j in picks):
+        raise ValueError(f"picks must be 1 to {most} frame numbers in 1..{n}, got {picks}")
+    return picks

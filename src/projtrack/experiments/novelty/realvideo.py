@@ -1,10 +1,10 @@
-"""Readings of the real plaza video (and of the synthetic stand-in) beyond the paper's panels.
+"""The real plaza video: where its residual sits, its calibration, and two readings beyond the panels.
 
-Where the residual energy of the real frames sits (:func:`residual_location`), the video with
-the people's contrast scaled by ``alpha`` (:func:`contrast_scaled`, :func:`calibrate_contrast`
-on the printed ``n_2``), the Fig. 2 pattern of a sequence (:func:`fig2_pattern`), the margin of
-the rank-1 claim (:func:`rank_margin`) and the energy the final eigenimages keep
-(:func:`energy_kept_table`).
+Where the residual energy of the real frames sits and how large the camera noise is
+(:func:`residual_location`), the video with the people's contrast scaled
+(:func:`contrast_scaled`) and calibrated to the printed brightness and ``n_2``
+(:func:`calibrate_real`), the margin of the one-eigenimage count of Fig. 2
+(:func:`rank_margin`) and the energy the final eigenimages keep (:func:`energy_kept_table`).
 """
 from __future__ import annotations
 
@@ -15,15 +15,13 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
 
-from projtrack._validation import as_array, as_int, as_real
+from projtrack._validation import as_array, as_real, as_rng
 from projtrack.novelty import FrameRecord, NoveltyFilter, batch_kl, process_sequence
-from projtrack.stable import fmt
 
-from .street import FIG2_SETTINGS, PIXEL_THRESHOLD, entry_marked
+from .street import FIG2_SETTINGS, PIXEL_THRESHOLD, novelty_against_first
 
-__all__ = ["median_background", "residual_location", "contrast_scaled", "first_novelty",
-           "calibrate_contrast", "fig2_pattern", "max_second_fraction", "rank_margin",
-           "energy_kept_table", "rms_ratio"]
+__all__ = ["median_background", "residual_location", "contrast_scaled", "calibrate_real",
+           "max_second_fraction", "rank_margin", "energy_kept_table"]
 
 
 def median_background(frames: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -76,53 +74,7 @@ def contrast_scaled(background: Any, dev: Any, alpha: float) -> np.ndarray:
     return np.asarray(background, dtype=float) + alpha * np.asarray(dev, dtype=float)
 
 
-def first_novelty(frames: Any, j: int = 2, novelty_threshold: float = FIG2_SETTINGS[0],
-                  information_threshold: float = FIG2_SETTINGS[1]) -> float:
-    """The novelty (Eq. (7)) of frame ``j`` against the model built from frame 1 alone."""
-    j = as_int(j, "j", minimum=2, maximum=len(frames))
-    f = NoveltyFilter(novelty_threshold, information_threshold)
-    f.partial_fit(frames[0])
-    return f.novelty(frames[j - 1])
 
-
-def calibrate_contrast(background: Any, dev: Any, target: float = 0.0018, lo: float = 0.01,
-                       hi: float = 1.0, xtol: float = 1e-8) -> float:
-    """The contrast scale ``alpha`` in ``[lo, hi]`` at which frame 2's novelty is ``target``.
-
-    Solved with :func:`scipy.optimize.brentq` on :func:`first_novelty` of
-    :func:`contrast_scaled`; ``target`` must be bracketed by the novelties at ``lo`` and ``hi``.
-    """
-    target = as_real(target, "target", 0.0, 1.0)
-    return brentq(lambda a: first_novelty(contrast_scaled(background, dev, a)) - target,
-                  lo, hi, xtol=xtol)
-
-
-def fig2_pattern(frames: Any, pixel_threshold: float = PIXEL_THRESHOLD
-                 ) -> tuple[list[FrameRecord], dict[str, Any]]:
-    """The Fig. 2 readings of a sequence as the text states them (frames 2, 3, 4, 8).
-
-    Returns
-    -------
-    recs : list of FrameRecord
-        :func:`~projtrack.novelty.process_sequence` with the Fig. 2 settings.
-    row : dict
-        ``n_2``, ``n_3``, ``n_4``, ``F_4,2``, novel frames among 2-7, ``n_8``, ``F_8,2``, the
-        update number of frame 8 and :func:`~projtrack.experiments.novelty.entry_marked`
-        (numbers as strings, as printed).
-    """
-    recs = process_sequence(frames, *FIG2_SETTINGS, pixel_threshold=pixel_threshold)
-    if len(recs) < 8:
-        raise ValueError(f"frames must hold at least 8 frames, got {len(recs)}")
-
-    def f_of(r):
-        return fmt(r.fractions[1], ".6f") if r.fractions is not None else "not novel"
-
-    return recs, {"n_2": fmt(recs[1].novelty, ".4f"), "n_3": fmt(recs[2].novelty, ".4f"),
-                  "n_4": fmt(recs[3].novelty, ".4f"), "F_4,2": f_of(recs[3]),
-                  "novel among frames 2-7": f"{sum(r.novel for r in recs[1:7])} of 6",
-                  "n_8": fmt(recs[7].novelty, ".4f"), "F_8,2": f_of(recs[7]),
-                  "frame 8 is update number": f"{sum(r.novel for r in recs[:8])}" if recs[7].novel else "not novel",
-                  "entry marked": entry_marked(recs)}
 
 
 def max_second_fraction(recs: Sequence[FrameRecord]) -> float:
@@ -139,14 +91,14 @@ def rank_margin(background: Any, dev: Any, alphas: Sequence[float] = (1, 2, 3, 4
     -------
     pandas.DataFrame
         Index ``alpha``; the largest number of eigenimages kept and the largest ``F_i,2``
-        (4 decimals) under the Fig. 2 settings.
+        under the Fig. 2 settings.
     """
     rows = []
     for alpha in alphas:
         recs = process_sequence(contrast_scaled(background, dev, alpha), *FIG2_SETTINGS,
                                 pixel_threshold=pixel_threshold)
         rows.append({"alpha": alpha, "max eigenimages kept": max(r.rank for r in recs),
-                     "largest F_i,2": fmt(max_second_fraction(recs), ".4f")})
+                     "largest F_i,2": max_second_fraction(recs)})
     return pd.DataFrame(rows).set_index("alpha")
 
 
@@ -164,8 +116,8 @@ def energy_kept_table(sequences: Mapping[str, Any],
     Returns
     -------
     pandas.DataFrame
-        Per sequence and setting: eigenimages kept, energy kept, ``loss / (1 - T_I)`` and the
-        energy the batch KL keeps with as many eigenimages.
+        Per sequence and ``T_I``: eigenimages kept, the share of the energy kept (percent),
+        ``loss / (1 - T_I)`` and the share the batch KL keeps with as many eigenimages.
     """
     rows = []
     for name, frames in sequences.items():
@@ -175,15 +127,49 @@ def energy_kept_table(sequences: Mapping[str, Any],
             filt = NoveltyFilter(td, ti).fit(frames)
             kept = float(np.sum((X @ filt.components_.T) ** 2) / total)
             best = float(batch_kl(frames, n_components=filt.rank_).eigenvalues.sum() * len(X) / total)
-            rows.append({"sequence": name, "T_d": td, "T_I": ti, "eigenimages kept": filt.rank_,
-                         "energy kept": fmt(kept, ".4%"), "loss / (1 - T_I)": fmt((1 - kept) / (1 - ti), ".2f"),
-                         "batch optimum, same number": fmt(best, ".4%")})
+            rows.append({"sequence": name, "T_I": ti, "eigenimages kept": filt.rank_,
+                         "energy kept (%)": 100 * kept, "loss / (1 - T_I)": (1 - kept) / (1 - ti),
+                         "batch optimum (%)": 100 * best})
     return pd.DataFrame(rows)
 
 
-def rms_ratio(img: Any, frames: Any, background: Any) -> float:
-    """RMS of ``img - B`` over the mean per-frame RMS of ``frames - B`` (1: no better than a frame)."""
-    f = as_array(frames, "frames", ndim=3)
-    img = as_array(img, "img", shape=f.shape[1:])
-    return float(np.sqrt(np.mean((img - background) ** 2))
-                 / np.mean(np.sqrt(np.mean((f - background) ** 2, axis=(1, 2)))))
+
+def calibrate_real(frames: Any, rng: np.random.Generator, target_rms: float = 67.0,
+                   people_threshold: float = 30.0) -> dict[str, Any]:
+    """The real video at the paper's exposure and with its people's contrast calibrated.
+
+    The printed ``V_1`` fixes the paper's frame-1 RMS grey level (``target_rms``).  The video
+    is darkened by ``gain = target_rms / RMS(frame 1)``; since its camera noise (the temporal
+    standard deviation on the pixels no person covers, :func:`residual_location`) would shrink
+    with it, independent noise of standard deviation ``noise sqrt(1 - gain^2)`` is added
+    (drawn once from ``rng``) so that the darker video has the camera's noise again.  Then the
+    people's contrast ``alpha`` of ``B + alpha (x - B)`` (before the exposure change) is
+    calibrated twice: on ``n_2 = 0.0018`` (frame 2 against frame 1) and on ``n_4 = 0.0025``
+    (frame 4 against frame 1).
+
+    Returns
+    -------
+    dict
+        ``gain``, ``camera noise`` (grey levels), ``added noise``, ``contrast (n_2)``,
+        ``contrast (n_4)``, ``frames`` (the video calibrated on ``n_2``), ``frames (n_4)``,
+        ``background`` (the darkened median background), ``masks`` (pixels more than
+        ``people_threshold`` grey levels from the median background, the people).
+    """
+    f = as_array(frames, "frames", ndim=3, allow_empty=False)
+    target_rms = as_real(target_rms, "target_rms", 0.0, low_open=True)
+    background, dev = median_background(f)
+    _, noise_sd, _ = residual_location(dev)
+    gain = target_rms / float(np.sqrt(np.mean(f[0] ** 2)))
+    if gain >= 1:
+        raise ValueError(f"the video is darker than target_rms = {target_rms} already")
+    added = noise_sd * float(np.sqrt(1 - gain ** 2))
+    noise = added * as_rng(rng).standard_normal(f.shape)
+
+    def video(alpha: float) -> np.ndarray:
+        return gain * contrast_scaled(background, dev, alpha) + noise
+
+    a2 = brentq(lambda a: novelty_against_first(video(a), 2) - 0.0018, 0.01, 1.0, xtol=1e-8)
+    a4 = brentq(lambda a: novelty_against_first(video(a), 4) - 0.0025, 0.01, 1.0, xtol=1e-8)
+    return {"gain": gain, "camera noise": noise_sd, "added noise": added, "contrast (n_2)": a2,
+            "contrast (n_4)": a4, "frames": video(a2), "frames (n_4)": video(a4),
+            "background": gain * background, "masks": np.abs(dev) > people_threshold}

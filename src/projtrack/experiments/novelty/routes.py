@@ -4,7 +4,10 @@ The VIP-matrix eigen-decomposition against the large correlation/covariance matr
 (:func:`vip_vs_large`), the recursion with ``T_d = 0``, ``T_I = 1`` against the batch
 decomposition by both update routes (:func:`route_errors`), the routes on near-duplicate
 frames (:func:`near_duplicate_study`) and the adaptive filter against batch SVD/PCA and
-scikit-learn's IncrementalPCA (:func:`streaming_comparison`).
+scikit-learn's IncrementalPCA (:func:`streaming_comparison`); Eq. (12) in its two printed
+forms against the projection the package computes (:func:`eq12_forms`), and the ranks of the
+correlation matrix ``R`` and the covariance matrix ``C`` from their ``I x I`` VIP matrices
+(:func:`vip_ranks`; Section 3: "the rank of R is one more than the rank of C").
 """
 from __future__ import annotations
 
@@ -17,12 +20,12 @@ import pandas as pd
 from scipy.linalg import subspace_angles
 from sklearn.decomposition import PCA, IncrementalPCA
 
-from projtrack._validation import as_array, as_int, as_rng
+from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.novelty import (METHODS, EigenvalueDroppedWarning, NoveltyFilter, batch_kl,
                                correlation_matrix)
-from projtrack.stable import fmt
 
-__all__ = ["vip_vs_large", "route_errors", "near_duplicate_study", "streaming_comparison"]
+__all__ = ["vip_vs_large", "route_errors", "near_duplicate_study", "streaming_comparison", "eq12_forms",
+           "vip_ranks"]
 
 
 def vip_vs_large(frames: Any) -> pd.DataFrame:
@@ -156,7 +159,63 @@ def streaming_comparison(seq: Any, novelty_threshold: float = 0.001,
         "batch PCA, mean + K-1 components (affine optimum)": (missed(affine(pca)), len(X), X.size),
     }
     best = min(res["batch SVD of R, top K (linear optimum)"][0], res["batch PCA, mean + K-1 components (affine optimum)"][0])
-    table = pd.DataFrame([{"method": m, "stored images": K, "frames used": n, "energy missed": fmt(r, ".3e"),
-                           "missed / best batch": fmt(r / best, ".3f"), "floats kept": fl}
+    table = pd.DataFrame([{"method": m, "stored images": K, "frames used": n, "energy missed": r,
+                           "missed / best batch": r / best, "floats kept": fl}
                           for m, (r, n, fl) in res.items()])
     return {"table": table, "K": K, "best": best, "adaptive": ada, "ipca": ipca, "pca": pca}
+
+
+def eq12_forms(frames: Any, test: Any, method: str = "vip") -> dict[str, float]:
+    """Eq. (12) in its two printed forms after the frames ``frames`` (``T_d = 0``, ``T_I = 1``).
+
+    After ``i - 1`` updates the paper's eigenimages ``Phi_k`` have ``|Phi_k|^2 = (i - 1)
+    lambda_k`` (Eq. (4): ``v_i(k, k) = ((i - 1) / i) lambda_{i-1,k}`` is ``|Phi_k|^2 / i``), and
+    Eq. (5) gives ``v_i(k, K_i) = x_j^T Phi_k / i``.  With ``x = test``:
+
+    - form 1: ``sum_k (x^T Phi_k / lambda_k) Phi_k``;
+    - form 2: ``sum_k (V(k, K_i) / V(k, k)) Phi_k``, summed over the ``K_i - 1`` prior eigenimages;
+    - the projection ``sum_k (x^T u_k) u_k`` on the unit eigenimages (the package's
+      :meth:`~projtrack.novelty.NoveltyFilter.reconstruct`).
+
+    Returns
+    -------
+    dict
+        ``i`` (the iteration of the test frame), ``K`` (prior eigenimages), ``form 2 vs projection``
+        (largest difference relative to the projection's largest value), ``form 1 / form 2`` (ratio
+        of their norms), ``n (Eq. 7)`` from the VIP matrix, ``|x - x_hat|^2 / |x|^2`` with form 2.
+    """
+    f = NoveltyFilter(0.0, 1.0, method=method)
+    f.fit(as_array(frames, "frames", allow_empty=False))
+    x = as_array(test, "test", shape=f.frame_shape_).ravel()
+    i = f.n_updates_ + 1
+    lam, u = f.eigenvalues_, f.components_
+    phi = np.sqrt((i - 1) * lam)[:, None] * u
+    k = lam.size
+    v = np.zeros((k + 1, k + 1))
+    v[:k, :k] = np.diag((i - 1) / i * lam)
+    v[:k, k] = v[k, :k] = phi @ x / i
+    v[k, k] = x @ x / i
+    form1 = ((phi @ x) / lam) @ phi
+    form2 = (v[:k, k] / np.diag(v)[:k]) @ phi
+    proj = u.T @ (u @ x)
+    n7 = 1 - float(np.sum(v[:k, k] ** 2 / (np.diag(v)[:k] * v[k, k])))
+    return {"i": i, "K": k,
+            "form 2 vs projection": float(np.abs(form2 - proj).max() / np.abs(proj).max()),
+            "form 1 / form 2": float(np.linalg.norm(form1) / np.linalg.norm(form2)),
+            "n (Eq. 7)": n7, "|x - x_hat|^2 / |x|^2": float(np.sum((x - form2) ** 2) / (x @ x))}
+
+
+def vip_ranks(frames: Any, rtol: float = 1e-10) -> tuple[int, int]:
+    """Numerical ranks of ``R`` and ``C`` of a sequence, from their ``I x I`` VIP matrices (Eq. (2)).
+
+    ``R`` keeps the mean (``v(l, m) = x_l^T x_m / I``), ``C`` removes it; an eigenvalue counts
+    when it exceeds ``rtol`` times the largest eigenvalue of ``R``.
+    """
+    x = as_array(frames, "frames", allow_empty=False)
+    x = x.reshape(len(x), -1)
+    rtol = as_real(rtol, "rtol", 0.0, low_open=True)
+    xc = x - x.mean(axis=0)
+    er = np.linalg.eigvalsh(x @ x.T / len(x))
+    ec = np.linalg.eigvalsh(xc @ xc.T / len(x))
+    tol = rtol * er.max()
+    return int(np.sum(er > tol)), int(np.sum(ec > tol))
