@@ -115,6 +115,16 @@ def test_non_psd_pool_study_scores_every_draw():
         XP.non_psd_pool_study(d["W"], [30], X_lo, X_hi)
 
 
+def test_support_perturbation_measures_sqrt_distances():
+    c = XP.ideal_supports(S.X26, S.paper_projections())
+    W = np.array([np.zeros(5), c * 3.0, -c * 2.0])  # none, supports doubled, Y clipped to 0
+    d = XP.support_perturbation(W, c)
+    assert np.allclose(d["mean"][0], 0) and np.allclose(d["max"][1], np.sqrt(c).max())
+    assert np.allclose(d["mean"][2], np.sqrt(c).mean()) and np.all(d["max"] >= d["mean"])
+    with pytest.raises(ValueError, match="ideal"):
+        XP.support_perturbation(W, c[:3])
+
+
 def test_ls_psd_frequency_small_noise_is_almost_always_psd():
     tab = XP.ls_psd_frequency([(0.3, 7), (9.0, 8)], 2, 50)
     assert list(tab["noise variance"]) == [0.3, 9.0]
@@ -278,8 +288,48 @@ def test_settling_study_of_our_drive_is_unscaled(exp):
     assert out["scale"] == pytest.approx(2.0)  # our drive has beta = 2
     assert out["no-data settling"] == XP.settling_step(XP.relative_errors(XP.no_data_estimate(exp), exp["Xs"]))
     assert 0 <= out["earlier"] + out["later"] <= 1 and 0 <= out["median settling"] <= 24
+    assert 0 <= out["earlier than one frame"] <= 1 and 0 <= out["better than one frame at step 7"] <= 1
     with pytest.raises(ValueError, match="drive_raw"):
         XP.settling_study(np.zeros((3, 2, 2)), target, 4, np.random.default_rng(1))
+
+
+def test_one_frame_guess_is_the_circle_y0_I_propagated(exp):
+    y0 = np.array([0.5, 2.0, 3.7])
+    got = XP.one_frame_guess(y0, exp["A"], exp["Bs"])
+    for v, g in zip(y0, got):
+        assert np.allclose(g, E.simulate(v * np.eye(2), exp["A"], exp["Bs"], len(exp["Xs"]) - 1), atol=1e-12)
+
+
+def test_trivial_baselines_and_the_criterion_against_them(exp):
+    W = np.array([[0.0] * 24, [1.5] + [0.0] * 23])
+    tb = XP.trivial_baselines(exp, W)
+    e0 = XP.relative_errors(XP.no_data_estimate(exp), exp["Xs"])
+    assert np.allclose(tb["no data, X_0 = 0"], e0) and tb["one frame, X_0 = y_0 I"].shape == (2, 24)
+    y0 = exp["ideal"][0] + W[:, 0]
+    assert np.allclose(tb["one frame, X_0 = y_0 I"][1],
+                       XP.relative_errors(XP.one_frame_guess(y0, exp["A"], exp["Bs"])[1], exp["Xs"]))
+    # an estimator equal to its baseline is never earlier, later or better: the criterion can fail
+    same = XP.versus_baseline(tb["one frame, X_0 = y_0 I"], tb["one frame, X_0 = y_0 I"])
+    assert same["strictly earlier"] == same["later"] == same["better at step 7"] == 0
+    # the truth itself settles at step 0, earlier than the no-data run (which settles later)
+    exact = XP.versus_baseline(np.zeros((2, 24)), e0)
+    assert exact["strictly earlier"] == 1 and exact["better at step 7"] == 1 and exact["median settling step"] == 0
+    tab = XP.threshold_table({"truth": np.zeros((2, 24)), "base": np.tile(e0, (2, 1))}, e0, tols=(0.1, 0.2))
+    assert list(tab["truth"]) == [1.0, 1.0] and list(tab["base"]) == [0.0, 0.0]
+    with pytest.raises(ValueError, match="W"):
+        XP.trivial_baselines(exp, W[:, :5])
+    with pytest.raises(ValueError, match="step"):
+        XP.versus_baseline(np.zeros((2, 5)), np.zeros(5))
+
+
+def test_best_constant_error_is_below_the_temporal_mean(exp):
+    best, X = XP.best_constant_error(exp["Xs"], n_starts=4)
+    assert best <= XP.constant_baseline_error(exp["Xs"]) + 1e-12
+    assert np.linalg.eigvalsh(X)[0] >= 0
+    rel = np.linalg.norm(X - exp["Xs"][8:], axis=(1, 2)) / np.linalg.norm(exp["Xs"][8:], axis=(1, 2))
+    assert np.median(rel) == pytest.approx(best)
+    still = np.array([S.X26] * 12)
+    assert XP.best_constant_error(still, n_starts=2)[0] < 1e-6
 
 
 def test_model_trial_without_errors_is_the_exact_model(exp):
@@ -299,7 +349,7 @@ def test_constant_baseline_and_model_error_scan(exp):
     base = XP.constant_baseline_error(exp["Xs"])
     assert 0.3 < base < 1
     scan = XP.model_error_scan(exp, (0.0, 0.5), 4, np.random.default_rng(1))
-    assert scan["better than the constant ellipse"].iloc[0] == 1.0  # no model error: the estimate tracks
+    assert scan["better than the mean ellipse"].iloc[0] == 1.0  # no model error: the estimate tracks
     assert scan["median error"].iloc[0] < scan["median error"].iloc[1]
     with pytest.raises(ValueError, match="steps"):
         XP.constant_baseline_error(exp["Xs"], slice(30, None))

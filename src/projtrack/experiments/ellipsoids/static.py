@@ -25,7 +25,7 @@ from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.scenes import ellipses as S
 from projtrack.experiments.ellipsoids.selection import median_draw
 
-__all__ = ["demo_interval", "interval_readings", "ideal_supports", "ls_estimates", "shown_static_draw",
+__all__ = ["demo_interval", "interval_readings", "ideal_supports", "support_perturbation", "ls_estimates", "shown_static_draw",
            "three_estimates", "describe_estimates", "non_psd_pool_study", "constraints_inactive", "interval_bound_study",
            "ls_psd_frequency", "snr_readings", "hyperplane_rank_trial", "hyperplane_ranks",
            "ctilde_identity_trial", "ctilde_identity_study", "projector_form_trial", "projector_form_study",
@@ -71,6 +71,22 @@ def ideal_supports(X: object, Cs: Sequence[np.ndarray]) -> np.ndarray:
     """The ideal scalar observations ``c_k = C_k^T X C_k`` of single-direction views ``C_k`` (n x 1)."""
     Xm = E.check_symmetric(X)
     return np.array([float(C[:, 0] @ Xm @ C[:, 0]) for C in Cs])
+
+
+def support_perturbation(W: object, ideal: object) -> dict:
+    """How far the noisy supports lie from the true ones: ``|sqrt(Y_k) - sqrt(c_k)|``, ``Y_k = c_k + W_k``.
+
+    ``W`` is ``(D, q)`` (one data set a row), ``ideal`` the ``q`` ideal observations ``c_k``
+    (:func:`ideal_supports`); negative ``Y_k`` count as 0. Returns per data set the mean and the
+    largest of the ``q`` support perturbations (``{"mean": (D,), "max": (D,)}``), lengths on the
+    scale of the semi-axes.
+    """
+    w = as_array(W, "W", ndim=2)
+    c = as_array(ideal, "ideal", ndim=1)
+    if w.shape[1] != len(c) or np.any(c < 0):
+        raise ValueError(f"ideal must hold {w.shape[1]} non-negative values, got {c}")
+    d = np.abs(np.sqrt(np.clip(c + w, 0, None)) - np.sqrt(c))
+    return {"mean": d.mean(axis=1), "max": d.max(axis=1)}
 
 
 def ls_estimates(W: object, ideal: object, Cs: Sequence[np.ndarray]) -> np.ndarray:
