@@ -106,9 +106,9 @@ def score_points(gt, frame: object, ident: object, points: object, *, min_overla
 
     Parameters
     ----------
-    gt : projtrack.datasets.MOTBoxes
-        The ground truth (every frame ``1..gt.n_frames`` is scored, also frames without
-        an annotated person or without a hypothesis).
+    gt : MOTBoxes
+        The ground truth, a ``projtrack.datasets.MOTBoxes`` (every frame ``1..gt.n_frames``
+        is scored, also frames without an annotated person or without a hypothesis).
     frame, ident : array_like of int, shape (n,)
         Frame (1-based) and track identity of each reported point.
     points : array_like, shape (n, 2)

@@ -44,25 +44,30 @@ def plot_tracks_over_time(gt: MOTBoxes, runs: dict[str, TrackRun], scans: list |
     return fig
 
 
-def plot_association_times(times: pd.DataFrame, width: float = 6.4, height: float = 3.2):
+def plot_association_times(times: pd.DataFrame, width: float = 6.4, height: float = 3.4):
     """Seconds per scan against the largest cluster of the scan, both exact associations.
 
     ``times`` holds the rows of :func:`projtrack.experiments.jpda.time_association` with a
-    ``scans`` column naming where each scan comes from; a scan the sweep refused (NaN) is
+    ``scans`` column naming where each scan comes from (names starting with ``"crowd"``
+    are drawn apart from the real sequences); a scan the sweep was not run on (NaN) is
     drawn at the top edge.
     """
     fig, ax = plt.subplots(figsize=(width, height))
     jitter = np.random.default_rng(0).uniform(-0.15, 0.15, len(times))
     x = times["largest cluster"].to_numpy(float) + jitter
-    top = np.nanmax(times[["beta [s]", "Stone Soup EHM [s]"]].to_numpy(float)) * 2
     b = times["beta [s]"].to_numpy(float)
-    ax.semilogy(x, times["Stone Soup EHM [s]"], "o", ms=3.5, mfc="none", color="C1", label="Stone Soup EHM")
-    ax.semilogy(x[np.isfinite(b)], b[np.isfinite(b)], "^", ms=3.5, color="C0", label="beta (sweep)")
+    e = times["Stone Soup EHM [s]"].to_numpy(float)
+    crowd = times["scans"].str.startswith("crowd").to_numpy()
+    top = np.nanmax(np.r_[b, e]) * 2
+    for sel, where, mk in ((~crowd, "real scans", "o"), (crowd, "crowd of 100", "s")):
+        ax.semilogy(x[sel], e[sel], mk, ms=4, mfc="none", color="C1", label=f"Stone Soup EHM, {where}")
+        ok = sel & np.isfinite(b)
+        ax.semilogy(x[ok], b[ok], mk, ms=3.5, color="C0", label=f"beta (sweep), {where}")
     if np.any(~np.isfinite(b)):
         ax.semilogy(x[~np.isfinite(b)], np.full(int(np.sum(~np.isfinite(b))), top), "v", ms=5, color="C3",
-                    label="beta refused (2^min too large)")
+                    label="sweep not run")
     ax.set_xlabel("largest cluster of the scan, min(m, T)")
     ax.set_ylabel("seconds per scan")
-    ax.legend(frameon=False, loc="upper left")
+    ax.legend(frameon=False, loc="upper left", ncol=2)
     fig.tight_layout()
     return fig
