@@ -321,8 +321,9 @@ def pedestrian_tolerances(n_draws: int, n_objects: int) -> dict:
     """
     n_draws = as_int(n_draws, "n_draws", minimum=1)
     n_objects = as_int(n_objects, "n_objects", minimum=1)
-    what = f"one box's outcome flipped in one of {n_draws} draws of {n_objects} annotated boxes"
+    what = (f"one box's outcome flipped in a run over {n_objects} annotated boxes" if n_draws == 1 else
+            f"one box's outcome flipped in one of {n_draws} draws of {n_objects} annotated boxes")
     per = {"MOTA": 2 / n_objects, "IDF1": 3 / n_objects, "MOTP": 1 / n_objects,
            "ID switches": 1.0, "false positives": 1.0, "misses": 1.0}
-    return {col: statistical(atol=v / n_draws, why=f"{what}: {col} moves by {v:.3g} in that draw")
+    return {col: statistical(atol=v / n_draws, why=f"{what}: {col} moves by {v:.3g} in that run")
             for col, v in per.items()}
