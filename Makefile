@@ -60,9 +60,13 @@ book: figures
 unit: $(STAMP)
 	@echo "==> the package's import layers (lint-imports, contracts in pyproject.toml)"
 	$(VENV)/bin/lint-imports --no-cache
-	@echo "==> unit and property tests"
+	@echo "==> unit and property tests (with the wheel installed in a clean venv)"
 	$(PY) -m pytest tests -q -p no:cacheprovider --ignore=tests/test_figure_regression.py \
 		--ignore=tests/browser
+	@echo "==> the examples in the docstrings of the algorithm packages (doctest)"
+	$(PY) -m pytest -q -p no:cacheprovider --doctest-modules src/projtrack/ellipsoids src/projtrack/dma \
+		src/projtrack/correlators src/projtrack/hough src/projtrack/jpda src/projtrack/neuralnet \
+		src/projtrack/novelty
 
 NBVAL = $(PY) -m pytest -p no:cacheprovider --nbval --nbval-current-env \
 	--nbval-sanitize-with tests/nbval_sanitize.cfg --nbval-cell-timeout=600 \

@@ -546,3 +546,26 @@ def test_velocity_field_chain_exclude_self():
         dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.1, exclude_self="yes")
     with pytest.raises(ValueError, match="n_next"):
         dma.transitions_from_velocity_field(P[:2], mf.sphere_velocity, 0.1, n_next=2, exclude_self=True)
+
+
+def test_velocity_field_chain_width():
+    rng = np.random.default_rng(2)
+    P = mf.sphere_points(120, rng)
+    pred = mf.project_to_sphere(P + 0.2 * mf.sphere_velocity(P))
+    default = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.2, project=mf.project_to_sphere)
+    spacing = float(np.median(np.sort(np.linalg.norm(P[:, None] - P[None], axis=2), axis=1)[:, 1]))
+    same = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.2, project=mf.project_to_sphere,
+                                               width=spacing)
+    assert np.allclose(default.toarray(), same.toarray())  # the default width is the median spacing
+    narrow = dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.2, project=mf.project_to_sphere,
+                                                 width=0.3 * spacing)
+    # the weights are Gaussian in the distance to the predicted point: check one row by hand
+    i = 0
+    j = narrow.indices[narrow.indptr[i]:narrow.indptr[i + 1]]
+    w = np.exp(-0.5 * (np.linalg.norm(P[j] - pred[i], axis=1) / (0.3 * spacing)) ** 2)
+    assert np.allclose(narrow.data[narrow.indptr[i]:narrow.indptr[i + 1]], w / w.sum())
+    # narrower weights make the chain closer to deterministic
+    assert np.asarray(narrow.max(axis=1).todense()).mean() > np.asarray(default.max(axis=1).todense()).mean()
+    for bad in (0.0, -1.0, np.nan):
+        with pytest.raises(ValueError, match="width"):
+            dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.2, width=bad)

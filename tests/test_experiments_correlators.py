@@ -68,34 +68,60 @@ def small_bank():
 
 def test_noise_sweep_shape_and_noise_free_accuracy(small_bank):
     imgs, labels, bank = small_bank
-    ok = EX.noise_sweep({"a": bank, "b": bank}, imgs, labels, [0.0, 3.0], 3, np.random.default_rng(0), reference="a")
-    assert ok.shape == (3, 2, 4, 3) and ok.dtype == bool
+    ok = EX.noise_sweep({"a": bank, "b": bank}, imgs, labels, [0.0, 3.0], 3, np.random.default_rng(0))
+    assert ok.shape == (3, 2, 2, 3) and ok.dtype == bool
     assert ok[:, 0].all()  # no noise: the unit-energy bank is always right
     assert not ok[:, 1].all()  # heavy noise: some errors
-    # identical results for any number of jobs and for the same seed
-    again = EX.noise_sweep({"a": bank, "b": bank}, imgs, labels, [0.0, 3.0], 3, np.random.default_rng(0),
-                           reference="a")
+    assert np.array_equal(ok[:, :, 0], ok[:, :, 1])  # both banks see the same noisy images
+    again = EX.noise_sweep({"a": bank, "b": bank}, imgs, labels, [0.0, 3.0], 3, np.random.default_rng(0))
     assert np.array_equal(ok, again)
-    with pytest.raises(ValueError, match="reference"):
-        EX.noise_sweep({"a": bank}, imgs, labels, [0.1], 1, np.random.default_rng(0), reference="z")
+    # noise confined to a 2 x 2 centre hardly touches the letters
+    centre = EX.noise_sweep({"a": bank}, imgs, labels, [3.0], 3, np.random.default_rng(0), extent=2)
+    assert centre.mean() > ok[:, 1].mean()
     with pytest.raises(ValueError, match="labels"):
-        EX.noise_sweep({"a": bank}, imgs, labels[:2], [0.1], 1, np.random.default_rng(0), reference="a")
+        EX.noise_sweep({"a": bank}, imgs, labels[:2], [0.1], 1, np.random.default_rng(0))
     with pytest.raises(TypeError, match="fitted classifier"):
-        EX.noise_sweep({"a": object()}, imgs, labels, [0.1], 1, np.random.default_rng(0), reference="a")
+        EX.noise_sweep({"a": object()}, imgs, labels, [0.1], 1, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="distribution"):
+        EX.noise_sweep({"a": bank}, imgs, labels, [0.1], 1, np.random.default_rng(0), distribution="poisson")
 
 
-def test_noise_extent_study(small_bank):
-    imgs, labels, bank = small_bank
-    laws = {"g": ("gaussian", 1.0), "u": ("uniform", 1.0)}
-    ok, summed = EX.noise_extent_study(bank, imgs, labels, [0.0, 0.4], (32, 8), laws, (0.0,), 2,
-                                       np.random.default_rng(1))
-    assert ok.shape == (2, 4, 2, 3) and summed.shape == (2, 2, 1, 3)
-    assert ok[:, :, 0].all() and summed.all()  # noise-free: every rule right
+def test_recognition_study_rules(small_bank):
+    imgs, labels, _ = small_bank
+    bank = C.ProjectionCorrelationClassifier(angles=(90, 0)).fit(imgs, labels)
+    ok = EX.recognition_study([bank, bank], np.stack([imgs, imgs]), labels, [0.0, 2.0], ("gaussian", "uniform"), 3,
+                              np.random.default_rng(1), extent=30)
+    assert ok.shape == (3, 2, 2, 2, 2, 3) and ok.dtype == bool
+    assert ok[:, :, :, 0].all()  # noise-free, centred letters: both rules right
+    assert not ok[:, :, :, 1].all()
+    assert EX.RULES == ("sum of peaks", "summed output")
+    with pytest.raises(ValueError, match="one alphabet per bank"):
+        EX.recognition_study([bank], np.stack([imgs, imgs]), labels, [0.1], ("gaussian",), 1, np.random.default_rng(0))
     with pytest.raises(ValueError, match="laws"):
-        EX.noise_extent_study(bank, imgs, labels, [0.1], (8,), {"x": ("poisson", 1.0)}, (), 1,
-                              np.random.default_rng(1))
-    with pytest.raises(ValueError, match="extents"):
-        EX.noise_extent_study(bank, imgs, labels, [0.1], (0,), laws, (), 1, np.random.default_rng(1))
+        EX.recognition_study([bank], imgs[None], labels, [0.1], ("poisson",), 1, np.random.default_rng(0))
+    with pytest.raises(TypeError, match="summed_output_scores"):
+        EX.recognition_study([C.Correlation2DClassifier().fit(imgs, labels)], imgs[None], labels, [0.1],
+                             ("gaussian",), 1, np.random.default_rng(0))
+
+
+def test_margin_study(small_bank):
+    imgs, labels, _ = small_bank
+    two = C.ProjectionCorrelationClassifier(angles=(90, 0)).fit(imgs, labels)
+    three = C.ProjectionCorrelationClassifier(angles=(90, 0, 45)).fit(imgs, labels)
+    m = EX.margin_study([two, three], imgs, labels, [0.0, 1.5], 4, np.random.default_rng(2))
+    assert m.shape == (4, 2, 2, 3)
+    assert np.all(m[:, 0] > 0)  # noise-free: the true class wins (Cauchy-Schwarz on unit-energy projections)
+    assert np.all(m <= 1.0)  # a margin per projection cannot exceed one unit-energy peak
+    # the margin is the score gap: recompute it for one draw
+    X = letters.noisy(imgs, 0.0, np.random.default_rng(0))[0]
+    s = two.decision_function(X) / 2
+    gap = [s[i, i] - np.max(np.delete(s[i], i)) for i in range(3)]
+    assert np.allclose(m[0, 0, 0], gap)
+    with pytest.raises(TypeError, match="angles"):
+        EX.margin_study([C.Correlation2DClassifier().fit(imgs, labels)], imgs, labels, [0.1], 1,
+                        np.random.default_rng(0))
+    with pytest.raises(ValueError, match="classes"):
+        EX.margin_study([two], imgs, labels + 5, [0.1], 1, np.random.default_rng(0))
 
 
 # ------------------------------------------------------------------------------ objects
@@ -163,6 +189,42 @@ def test_ideal_ghosts_and_study():
     assert np.array_equal(r, EX.ideal_detector_study(5, np.random.default_rng(11)))
 
 
+def test_unique_from_lines_and_ghosts():
+    a, b = EX.switching_pair()
+    assert not EX.unique_from_lines(a, (0, 90, 45))  # a switching component: two sets share the three projections
+    assert EX.unique_from_lines(a, (0, 90, 45, 135))
+    rng = np.random.default_rng(4)
+    for _ in range(20):  # agrees with the brute-force enumeration for H, V and 45 degrees
+        pos = EX.random_positions(rng, 4)
+        assert EX.unique_from_lines(pos, (0, 90, 45)) == EX.unique_from_projections(pos)
+        assert EX.lines_ghost_free(pos, (0, 90, 45)) == (EX.ideal_ghosts(pos)["45"] == 0)
+    # two objects on no common line: their swapped pair has the same rows and columns
+    assert not EX.unique_from_lines([(10, 10), (20, 30)], (0, 90))
+    assert EX.unique_from_lines([(10, 10), (10, 30)], (0, 90))  # a shared row: nothing to swap
+    assert not EX.unique_from_lines([(10, 10)], (0,)) and not EX.lines_ghost_free([(10, 10)], (0,))
+    assert not EX.lines_ghost_free([(10, 10), (20, 30)], (0, 90))
+    assert EX.lines_ghost_free([(10, 10), (20, 30)], (0, 90, 45))
+    with pytest.raises(ValueError, match="angles"):
+        EX.unique_from_lines([(1, 1)], (0, 30))
+    r = EX.ideal_count_study([2, 3], [(0, 90), (0, 90, 45)], 4, np.random.default_rng(5), tols=(0,))
+    assert r.shape == (4, 2, 2, 2) and r.dtype == bool
+    assert np.array_equal(r, EX.ideal_count_study([2, 3], [(0, 90), (0, 90, 45)], 4, np.random.default_rng(5),
+                                                  tols=(0,)))
+
+
+def test_energy_count_study():
+    est = EX.energy_count_study(PLUS, [1, 3], 3, np.random.default_rng(6), angles=(90,))
+    assert est.shape == (3, 2, 2)
+    assert np.allclose(est[:, 0, :], 1.0)  # one object: its own energy
+    assert np.allclose(est[:, 1, 0], 3.0, atol=0.05)  # non-overlapping copies: 2-D energies add
+    noisy = EX.energy_count_study(PLUS, [2], 200, np.random.default_rng(7), sigma=0.3, angles=())
+    assert abs(noisy.mean() - 2.0) < 0.2  # the expected noise energy is subtracted
+    with pytest.raises(ValueError, match="odd"):
+        EX.energy_count_study(np.ones((4, 4)), [1], 1, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="constant"):
+        EX.energy_count_study(np.ones((3, 3)), [1], 1, np.random.default_rng(0))
+
+
 # ---------------------------------------------------------------------- autocorrelation
 C_BIN = letters.render_letter("C")
 
@@ -197,18 +259,62 @@ def test_psr_as_row_dilutes_the_sidelobes():
 def test_noisy_study_and_peak_at_centre():
     frame = EX.in_frame(C_BIN, 48)
     ref = C.zero_mean(frame)
-    d = EX.noisy_study(frame, ref, 0.0, 2, np.random.default_rng(0), extent=None, cyclic=True)
+    d = EX.noisy_study(frame, ref, 0.0, 2, np.random.default_rng(0), extent=None)
     assert list(d.columns) == list(EX.NOISY_QUANTITIES) and len(d) == 2
-    clean = EX.noisy_measures(ref, ref, cyclic=True)
+    clean = EX.noisy_measures(ref, ref)
     assert np.allclose(d.iloc[0].to_numpy(), clean)  # sigma 0: the zero-mean letter itself
-    lin = EX.noisy_study(frame, ref, 0.3, 3, np.random.default_rng(1), extent=32, cyclic=False)
+    lin = EX.noisy_study(frame, ref, 0.3, 3, np.random.default_rng(1), extent=32, plane="linear 127x127")
     assert lin["2-D peak"].std() > 0
+    rect = EX.noisy_study(frame, ref, 0.3, 3, np.random.default_rng(1), extent=32, rectify=True)
+    assert rect.shape == (3, 2 * len(EX.NOISY_QUANTITIES))
+    assert np.allclose(rect["rectified 2-D peak"], rect["2-D peak"])  # a positive peak survives rectification
+    assert (rect["rectified 2-D SNR"] >= rect["2-D SNR"]).all()  # zeros instead of negatives: less spread
     hits = EX.peak_at_centre_study(frame, ref, 0.0, 2, np.random.default_rng(0))
     assert hits.shape == (2, 3) and hits.all()
     with pytest.raises(ValueError, match="same shape"):
-        EX.noisy_study(frame, C_BIN, 0.1, 1, np.random.default_rng(0), extent=None, cyclic=True)
+        EX.noisy_study(frame, C_BIN, 0.1, 1, np.random.default_rng(0), extent=None)
+    with pytest.raises(ValueError, match="plane"):
+        EX.noisy_study(frame, ref, 0.1, 1, np.random.default_rng(0), extent=None, plane="cyclic")
     with pytest.raises(ValueError, match="sigma"):
         EX.peak_at_centre_study(frame, ref, -1.0, 1, np.random.default_rng(0))
+
+
+def test_planes_agree_where_they_should():
+    frame = EX.in_frame(C_BIN, 64)
+    ref = C.zero_mean(frame)
+    full = C.correlate2d(ref, ref)
+    cyc, crop, lin = (EX.noisy_measures(ref, ref, plane=p) for p in EX.PLANES)
+    assert cyc[0] == pytest.approx(crop[0]) == pytest.approx(lin[0]) == pytest.approx(full.max())
+    assert crop[3] == pytest.approx(lin[3])  # the cropped plane keeps the peak of the full one
+
+
+def test_snr_by_extent_and_calibration():
+    frame = EX.in_frame(C_BIN, 64)
+    ref = C.zero_mean(frame)
+    t = EX.snr_by_extent(frame, ref, 0.35, [26, 30, 34], 20, np.random.default_rng(3), planes=("cyclic 64x64",))
+    assert list(t.columns) == ["plane", "noise extent", "2-D SNR", "horizontal SNR"] and len(t) == 3
+    assert t["2-D SNR"].is_monotonic_decreasing  # more noise, lower SNR
+    assert EX.calibrated_extent(t, float(t["2-D SNR"].iloc[1]), "cyclic 64x64") == 30
+    assert EX.calibrated_extent(t, 1e6, "cyclic 64x64") == 26
+    with pytest.raises(ValueError, match="no rows"):
+        EX.calibrated_extent(t, 100.0, "linear 127x127")
+    with pytest.raises(ValueError, match="extents"):
+        EX.snr_by_extent(frame, ref, 0.35, [], 2, np.random.default_rng(0))
+    assert EX.NOISE_EXTENT == 29
+
+
+def test_zero_mean_psr_closed_form_matches_the_simulation():
+    n = int(C_BIN.sum())
+    psr_bin = EX.peak_measures(C_BIN, C_BIN)["2-D"][1]
+    for size in (48, 64):
+        z = C.zero_mean(EX.in_frame(C_BIN, size))
+        assert EX.zero_mean_psr(n, psr_bin, size) == pytest.approx(EX.peak_measures(z, z)["2-D"][1], rel=1e-9)
+        cyc = C.circular_correlate(z, z)
+        assert EX.zero_mean_psr(n, psr_bin, size, cyclic=True) == pytest.approx(C.psr(cyc), rel=1e-9)
+    # the paper's own numbers: 43 pixels and binary PSR 3.8 give 3.9 in a 64 frame, not in a 32 one
+    assert round(EX.zero_mean_psr(43, 3.8, 64), 1) == 3.9 and round(EX.zero_mean_psr(43, 3.8, 32), 1) > 4.2
+    with pytest.raises(ValueError, match="psr_binary"):
+        EX.zero_mean_psr(43, 0.0, 64)
 
 
 # ---------------------------------------------------------------------------------- snr
@@ -237,6 +343,45 @@ def test_output_snr_study_limits():
         EX.output_snr_study(np.ones((4, 4)), 2, 10, np.random.default_rng(0), sigma=0.0)
 
 
+def test_closed_forms_of_sec_iic():
+    n = 16
+    one = np.zeros((n, n))
+    one[3, 5] = 1.0
+    assert EX.loss_closed_form(np.ones((n, n))) == pytest.approx(1.0)
+    assert EX.loss_closed_form(one) == pytest.approx(np.sqrt(n))
+    assert EX.input_snr_ratio(np.ones((n, n))) == pytest.approx(np.sqrt(n))
+    assert EX.input_snr_ratio(one) == pytest.approx(1.0)
+    # a signed image whose columns cancel almost everywhere loses more than N^1/2
+    signed = np.tile([1.0, -1.0], (n, n // 2)).T.copy()
+    signed[0, 0] = 3.0
+    assert EX.loss_closed_form(signed) > np.sqrt(n)
+    with pytest.raises(ValueError, match="zero"):
+        EX.input_snr_ratio(np.zeros((3, 3)))
+    t = EX.texture_losses(16, 50, np.random.default_rng(0))
+    assert t.shape == (50,) and 0 < np.mean(t > np.sqrt(16)) < 1  # about half exceed the 'worst case'
+    assert np.array_equal(t, EX.texture_losses(16, 50, np.random.default_rng(0)))
+
+
+def test_signal_1d_study():
+    r = EX.signal_1d_study(25, 4, 500, np.random.default_rng(1), sigma=0.5)
+    assert r["theory"] == pytest.approx(10.0) and r["SNR_i"] == pytest.approx(2.0)
+    assert r["SNR_o 1-D signal"] == pytest.approx(10.0, rel=0.08)
+    with pytest.raises(ValueError, match="sigma"):
+        EX.signal_1d_study(4, 1, 10, np.random.default_rng(0), sigma=0.0)
+
+
+def test_combine_study_noise_correlations():
+    white = EX.combine_study(np.ones((8, 8)), (90, 0), 4, 200, np.random.default_rng(2))
+    assert white["noise correlation, closed form"][0, 1] == pytest.approx(1.0)  # identical noises
+    assert white["noise correlation"][0, 1] == pytest.approx(1.0)
+    assert white["sum"] == pytest.approx(white["single"][0], rel=1e-9)  # nothing gained
+    zm = EX.combine_study(C.zero_mean(C_BIN), (90, 0, 45), 4, 200, np.random.default_rng(3))
+    assert abs(zm["noise correlation, closed form"][0, 1]) < 1e-12  # zero-mean: H and V noises uncorrelated
+    assert zm["sum"] > max(zm["single"])
+    with pytest.raises(ValueError, match="angles"):
+        EX.combine_study(C_BIN, (30,), 1, 10, np.random.default_rng(0))
+
+
 # ---------------------------------------------------------------------------- detectors
 def test_detector_rule_study(small_bank):
     imgs, labels, _ = small_bank
@@ -245,6 +390,8 @@ def test_detector_rule_study(small_bank):
     assert r.shape == (3, 2, 3)
     assert np.all(r[:, 0] == 1.0)  # centred, noise-free: both rules right and agreeing
     assert np.all(r[:, 1, 1] == 1.0)  # the sum of separate peaks is shift invariant (cyclic shifts)
+    e = EX.detector_rule_study(bank, imgs, labels, [(0.5, 0)], 2, np.random.default_rng(0), extent=4)
+    assert e.shape == (2, 1, 3)
     with pytest.raises(ValueError, match="shift"):
         EX.detector_rule_study(bank, imgs, labels, [(0.1, -1)], 1, np.random.default_rng(0))
     with pytest.raises(TypeError, match="ProjectionCorrelationClassifier"):
@@ -269,8 +416,25 @@ def test_noisy_pair_study(small_bank):
     noisy = EX.noisy_pair_study(imgs[0], imgs[1], filt, [90], 0.5, 3, np.random.default_rng(0))
     assert np.array_equal(noisy, EX.noisy_pair_study(imgs[0], imgs[1], filt, [90], 0.5, 3, np.random.default_rng(0)))
     assert noisy[:, 0, 0].std() > 0
+    confined = EX.noisy_pair_study(imgs[0], imgs[1], filt, [90], 0.5, 3, np.random.default_rng(0), extent=8)
+    assert not np.array_equal(confined, noisy)
     with pytest.raises(ValueError, match="angles"):
         EX.noisy_pair_study(imgs[0], imgs[1], filt, [], 0.1, 1, np.random.default_rng(0))
+
+
+def test_binary_vs_zero_mean_and_magnitudes():
+    imgs = np.stack([C_BIN, letters.render_letter("P")])
+    t = EX.binary_vs_zero_mean(imgs, {"2-D": None, "horizontal": 90})
+    assert len(t) == 4 and set(t["correlation"]) == {"2-D", "horizontal"}
+    row = t[(t["filter"] == 0) & (t["correlation"] == "2-D")].iloc[0]
+    u, p = C.normalize_energy(C_BIN), C.normalize_energy(imgs[1])
+    assert row["binary ratio"] == pytest.approx(1.0 / EX.correlation_peak(p, u, None))
+    assert row["zero-mean ratio"] > row["binary ratio"]
+    assert (t["cross most negative / peak"] < 0).all() and (t["auto most negative / peak"] < 0).all()
+    bip, mag = EX.magnitude_mismatch(EX.unit_image(C_BIN), EX.unit_image(imgs[1]), 0)
+    assert bip < 1e-12 < 0.1 < mag  # bipolar outputs obey eq. (3), their magnitudes do not
+    with pytest.raises(ValueError, match="two images"):
+        EX.binary_vs_zero_mean(imgs[:1], {"2-D": None})
 
 
 def test_predictor_accuracy(small_bank):
@@ -288,23 +452,27 @@ def test_predictor_accuracy(small_bank):
 
 
 # -------------------------------------------------------------------------------- plots
-def test_auto_cross_figure():
+def test_auto_cross_figure_and_legibility():
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from projtrack import figures
     from projtrack.experiments.correlators import plots
 
     u = EX.unit_image(C_BIN)
     p = EX.unit_image(letters.render_letter("P"))
     fig = plots.auto_cross_figure([(u, "C"), (p, "P")], [(u, "auto", "C0"), (p, "cross", "C3")], u,
-                                  cmap="gray", suptitle="t", normalize=True)
+                                  cmap="gray", normalize=True)
     try:
-        assert len(fig.axes) == 5 and fig.axes[2].get_ylabel() == "corr. / auto peak"
+        assert len(fig.axes) == 6 and fig.axes[3].get_ylabel() == "corr. / auto peak"
         assert max(fig.axes[2].lines[0].get_ydata()) == pytest.approx(1.0)  # auto peak = 1
+        assert figures.legibility_problems(fig) == []
         with pytest.raises(ValueError, match="2 images"):
-            plots.auto_cross_figure([(u, "C")], [(u, "auto", "C0")], u, cmap="gray", suptitle="t")
+            plots.auto_cross_figure([(u, "C")], [(u, "auto", "C0")], u, cmap="gray")
+        for f in (plots.eq3_figure(u), plots.fig3_figure(C_BIN), plots.fig4_figure(u), plots.architectures_figure()):
+            assert figures.legibility_problems(f) == []
     finally:
         plt.close("all")
 
@@ -328,3 +496,47 @@ def test_eq3_errors_and_random_pairs():
     assert 0 <= w < 1e-10 and w == EX.eq3_random_pairs(5, np.random.default_rng(0), max_side=12)
     with pytest.raises(ValueError, match="max_side"):
         EX.eq3_random_pairs(2, np.random.default_rng(0), max_side=2)
+
+
+def test_eq3_wrong_angle_is_a_baseline_that_fails():
+    p = letters.render_letter("P")
+    t = EX.eq3_wrong_angle(C.zero_mean(C_BIN), C.zero_mean(p), (0, 30), (1, 5))
+    assert list(t.columns) == ["theta (deg)", "Eq. (3)", "theta +1 deg", "theta +5 deg"]
+    assert t["Eq. (3)"].iloc[0] < 1e-10 < 0.05 < t["theta +5 deg"].iloc[0]  # exact at 0; a 5 deg error is visible
+    assert t["theta +5 deg"].iloc[1] > t["Eq. (3)"].iloc[1]
+
+
+# ------------------------------------------------------------------------------- scoring
+def test_summarize_draws():
+    import pandas as pd
+
+    d = {"a": pd.DataFrame({"x": np.linspace(0.0, 10.0, 101)}), "b": pd.DataFrame({"x": np.full(5, 3.0)})}
+    t = EX.summarize_draws(d, {"x": 5.0})
+    assert list(t["reading"]) == ["a", "b"] and t["median"].iloc[0] == pytest.approx(5.0)
+    assert list(t["paper inside"]) == [True, False]
+    with pytest.raises(ValueError, match="column"):
+        EX.summarize_draws(d, {"y": 1.0})
+
+
+# -------------------------------------------------------------------------------- glyphs
+def test_glyph_numbers_and_verdicts():
+    import pandas as pd
+
+    p = letters.render_letter("P")
+    n = EX.letter_numbers(C_BIN, p)
+    m = EX.peak_measures(C_BIN, C_BIN)
+    assert n["pixels"] == 43 and n["vertical peak"] == pytest.approx(m["vertical"][0])
+    assert n["cross/auto 2-D"] < n["cross/auto horizontal"] < 1.0
+    table = EX.ensemble_table(fonts=("STIX",), cap_heights=(11.0,), offsets=(0.0, 0.5))
+    assert len(table) >= 1 and set(table["font"]) == {"STIX"}
+    numbers = EX.ensemble_numbers(table)
+    assert (numbers["pixels"] == 43).all()
+    assert EX.share_within(np.array([1.0, 1.05, 1.2]), 1.0, 0.1) == pytest.approx(2 / 3)
+    cmp = EX.compare_printed(numbers, n, {"2-D PSR": 3.8})
+    assert cmp["ours"].iloc[0] == pytest.approx(m["2-D"][1]) and cmp["within 10 %"].iloc[0] == 0.0
+    assert EX.glyph_verdict(n, numbers, {"vertical peak": n["vertical peak"]}) == "within-tolerance"
+    assert EX.glyph_verdict(n, numbers, {"2-D PSR": 3.8}) == "differs"
+    fake = pd.DataFrame({"x": [1.0, 2.0]})
+    assert EX.glyph_verdict({"x": 5.0}, fake, {"x": 2.05}) == "qualitative"  # one glyph set reproduces it
+    with pytest.raises(ValueError, match="columns"):
+        EX.member_alphabet({"font": "STIX"})

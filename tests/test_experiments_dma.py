@@ -226,3 +226,270 @@ def test_training_summary_and_fig9(slotcar):
         ex.plot_fig9(video, model, est, train, 1)
     with pytest.raises(ValueError, match="times must name two frames"):
         ex.plot_harder(video, ex.active_pixels(video.frames, 0.15, bg), est, (1, 2, 3))
+
+
+# ---------------------------------------------------------------- Example 1: chain readings and baselines
+def test_chain_stats_and_process_std():
+    det = ex.make_sphere_example(np.random.default_rng(0), n_points=600, n_regions=4, n_prototypes=5,
+                                 chain="nearest-other")
+    st = ex.chain_stats(det)
+    assert st == {"self-loop": 0.0, "largest transition": 1.0, "successors": 1.0}
+    two = ex.make_sphere_example(np.random.default_rng(0), n_points=600, n_regions=4, n_prototypes=5)
+    s2 = ex.chain_stats(two)
+    assert s2["successors"] == 2.0 and 0.5 <= s2["largest transition"] < 1.0
+    # the process noise of the deterministic chain, by hand: its one successor against the field's prediction
+    C = det.centroids
+    nxt = det.transitions.indices
+    pred = C + det.dt * det.velocity(C)
+    assert ex.chain_process_std(det) == pytest.approx(np.sqrt(((C[nxt] - pred) ** 2).sum(axis=1).mean() / 3))
+    # drift and width reach the chain
+    still = ex.make_sphere_example(np.random.default_rng(0), n_points=600, n_regions=4, n_prototypes=5, drift=0.0)
+    assert np.allclose(still.velocity(C), mf.sphere_velocity(C, drift=0.0))
+    sharp = ex.make_sphere_example(np.random.default_rng(0), n_points=600, n_regions=4, n_prototypes=5, width=0.3)
+    assert ex.chain_stats(sharp)["largest transition"] > s2["largest transition"]
+    for kw, name in ((dict(drift=-1.0), "drift"), (dict(width=0.0), "width")):
+        with pytest.raises(ValueError, match=name):
+            ex.make_sphere_example(np.random.default_rng(0), n_points=200, n_regions=2, n_prototypes=2, **kw)
+
+
+def test_chain_sensitivity_rows():
+    rows = ex.chain_sensitivity({"base": {}, "dt 0.6": {"dt": 0.6}}, 5, 6, model_seed=0, seed=1)
+    assert [r["variant"] for r in rows] == ["base", "dt 0.6"]
+    assert rows[1]["self-loop"] < rows[0]["self-loop"]  # a longer step leaves fewer self-loops
+    assert all(0 <= r["perfect after t = 2"] <= r["right, t >= 3"] <= 1 for r in rows)
+    with pytest.raises(ValueError, match="variants"):
+        ex.chain_sensitivity({}, 5, 6)
+
+
+def test_field_smoother_is_the_kalman_smoother_of_the_linear_field():
+    from filterpy.kalman import KalmanFilter
+
+    # without drift the field is the rotation k x x: linear, so the extended smoother is the Kalman one
+    rng = np.random.default_rng(3)
+    y = rng.normal(size=12)
+    dt, q, sd = 0.3, 0.1, 0.2
+    est = ex.field_smoother(y, sd, dt, drift=0.0, q=q)
+    kf = KalmanFilter(dim_x=3, dim_z=1)
+    kf.x, kf.P = np.zeros(3), np.eye(3) / 3.0
+    kf.F = np.eye(3) + dt * np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    kf.H, kf.R, kf.Q = ex.H_SPHERE.copy(), np.array([[sd**2]]), q**2 * np.eye(3)
+    # filterpy predicts before every update; the first step of field_smoother updates the prior directly
+    mu, cov = [], []
+    for t, yt in enumerate(y):
+        if t:
+            kf.predict()
+        kf.update(np.array([yt]))
+        mu.append(kf.x.copy()); cov.append(kf.P.copy())
+    mu, cov = np.array(mu), np.array(cov)
+    xs = mu.copy()
+    for t in range(len(y) - 2, -1, -1):
+        Pp = kf.F @ cov[t] @ kf.F.T + kf.Q
+        G = cov[t] @ kf.F.T @ np.linalg.inv(Pp)
+        xs[t] = mu[t] + G @ (xs[t + 1] - kf.F @ mu[t])
+    assert np.allclose(est, xs)
+    # a known start pins the first estimate
+    x0 = np.array([0.6, 0.0, 0.8])
+    assert np.allclose(ex.field_smoother(y, sd, dt, q=q, x0=x0)[0], x0, atol=0.05)
+    with pytest.raises(ValueError, match="q"):
+        ex.field_smoother(y, sd, dt, q=0.0)
+    with pytest.raises(ValueError, match="y"):
+        ex.field_smoother(np.array([np.nan]), sd, dt)
+
+
+def test_baseline_trials_and_rate_spread():
+    det = ex.make_sphere_example(np.random.default_rng(0), n_points=600, n_regions=4, n_prototypes=5,
+                                 chain="nearest-other", noise_std=0.05)
+    r = ex.baseline_trials(det, 6, 10, np.random.default_rng(2))
+    for k in ("viterbi", "smooth", "filter", "frame_ml", "chance", "kalman", "field", "field_start"):
+        assert r[k].shape == (6, 10) and r[k].dtype == bool
+    same = ex.sphere_trials(det, 6, 10, np.random.default_rng(2), with_kalman=True)
+    assert np.array_equal(r["path"], same["path"]) and np.array_equal(r["kalman"], same["kalman"])
+    assert r["viterbi"][:, 2:].mean() > r["field"][:, 2:].mean()
+    ok = np.zeros((4, 5), dtype=bool)
+    ok[:2, 2:] = True  # two trials right after t = 2, two never
+    s = ex.rate_spread(ok, batch=2)
+    assert s["mean"] == 0.5 and s["batch min"] == 0.0 and s["batch max"] == 1.0
+    assert s["low"] < 0.5 < s["high"]
+    with pytest.raises(ValueError, match="multiple"):
+        ex.rate_spread(ok, batch=3)
+
+
+# ---------------------------------------------------------------- Example 2: readings
+def test_road_example_speed_and_interval():
+    road = ex.make_road_example(np.random.default_rng(1), n_train=2, train_steps=30, speed=20.0, dt=0.5)
+    assert road.speed == 20.0 and road.dt == 0.5
+    x = road.drive(40, np.random.default_rng(2))
+    step = np.linalg.norm(np.diff(x[:, :2], axis=0), axis=1)
+    assert 0.4 * 10 <= np.median(step) <= 1.6 * 10  # 20 m/s for half a second, speed noise 15%
+    out = ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("viterbi",))
+    assert set(out) == {"viterbi"} and out["viterbi"].shape == (2, 20)
+    with pytest.raises(ValueError, match="methods"):
+        ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("ekf",))
+    with pytest.raises(ValueError, match="speed"):
+        ex.make_road_example(np.random.default_rng(1), speed=0.0)
+
+
+def test_median_shift_bound():
+    e = np.array([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]])
+    # median of 6 values (lower middle) 3; one drive (two values) can move it two order statistics
+    assert ex.median_shift_bound(e) == pytest.approx(max(3.0 - 1.0, 6.0 - 3.0))
+    rng = np.random.default_rng(0)
+    e = rng.exponential(10, size=(20, 15))
+    bound = ex.median_shift_bound(e)
+    for i in range(20):  # replacing any one drive by anything moves the median by at most the bound
+        for fill in (0.0, 1e6):
+            f = e.copy()
+            f[i] = fill
+            assert abs(np.median(f) - np.median(e)) <= bound + 1e-12
+
+
+def test_reading_study_rows():
+    rows, errs = ex.reading_study([("position and heading", "variance 0.05", 12.0, 1.0),
+                                   ("position", "std 0.05", 12.0, 2.0)], 2, 20)
+    assert [(r["states"], r["interval [s]"]) for r in rows] == [("position and heading", 1.0), ("position", 2.0)]
+    assert errs["position", "std 0.05", 12.0, 2.0].shape == (2, 10)  # 20 s at 2 s per sample
+    assert rows[0]["m per sample"] == 12.0
+    assert rows[0]["follows"] == (rows[0]["median error [m]"] < 20 and rows[0]["lost share"] <= 0.1)
+    with pytest.raises(ValueError, match="reading"):
+        ex.reading_study([("heading", "variance 0.05", 12.0, 1.0)], 2, 20)
+    with pytest.raises(ValueError, match="samples"):
+        ex.reading_study([("position", "std 0.05", 12.0, 2.0)], 2, 2)
+
+
+# ---------------------------------------------------------------- Example 3: without the manifold
+def test_box_counts_against_brute_force():
+    rng = np.random.default_rng(0)
+    A = rng.random((2, 9, 11)) < 0.3
+    n = ex.box_counts(A, 3)
+    brute = np.zeros_like(n)
+    for t in range(2):
+        for r in range(9):
+            for c in range(11):
+                brute[t, r, c] = A[t, max(r - 1, 0):r + 2, max(c - 1, 0):c + 2].sum()
+    assert np.array_equal(n, brute)
+
+
+def test_detect_and_interpolate_fills_the_gap_linearly():
+    A = np.zeros((7, 20, 20), dtype=bool)
+    for t in range(7):
+        if t not in (2, 3, 4):  # hidden in frames 2-4
+            A[t, 10, 2 + 2 * t:5 + 2 * t] = True  # a 3-pixel blob moving 2 px per frame
+    est, found = ex.detect_and_interpolate(A, 2.5, box=5)
+    assert found.tolist() == [True, True, False, False, False, True, True]
+    assert np.allclose(est[:, 0], 10.0) and np.allclose(est[:, 1], 3 + 2 * np.arange(7))
+    assert ex.longest_gap(found) == 3 and ex.longest_gap(np.ones(4, bool)) == 0
+    with pytest.raises(ValueError, match="no frame"):
+        ex.detect_and_interpolate(A, 99.0)
+
+
+def test_grid_hmm_and_map_free_table(slotcar):
+    train, bg, model, sensor = slotcar
+    n_min = ex.detector_threshold(train, bg)
+    assert n_min > 0 and (2 * n_min).is_integer()
+    grid = ex.fit_grid_hmm(train, np.random.default_rng(3), background=bg)
+    assert np.allclose(grid.transitions.sum(axis=1), 1.0) and len(grid.points) == 48 * 64
+    assert grid.sigma == pytest.approx(grid.step / np.sqrt(2)) and grid.max_step == pytest.approx(3 * grid.sigma)
+    A = grid.transitions.tocoo()
+    assert np.linalg.norm(grid.points[A.row] - grid.points[A.col], axis=1).max() <= grid.max_step
+    wide = ex.fit_grid_hmm(train, np.random.default_rng(3), background=bg, spread=1.0)
+    assert wide.sigma == pytest.approx(grid.step) and wide.transitions.nnz > grid.transitions.nnz
+    mfree = ex.MapFree(n_min, 5, grid, {"wide": wide})
+    trials = ex.tracking_study(model, sensor, bg, 2, np.random.default_rng(8), n_frames=40, map_free=mfree)
+    for k in ("detector", "grid", "grid wide"):
+        assert trials[0][k].shape == (40,)
+    table, tol = ex.map_free_table({"easy": trials}, {"easy": (model, sensor)}, {"easy": mfree})
+    assert list(table["frames"]) == ["car visible", "car under the bridge"]
+    occ = np.concatenate([t["occluded"] for t in trials])
+    grid_err = np.concatenate([t["grid"] for t in trials])
+    assert table.iloc[1]["random-walk grid HMM [px]"] == pytest.approx(grid_err[occ].mean())
+    n = int(occ.sum())
+    gap = max(int(t["gap"]) for t in trials)
+    assert tol["detector + interpolation [px]"].atol == pytest.approx((1 + gap) * round(np.hypot(48, 64), 1) / n)
+    assert tol["random-walk grid HMM [px]"].atol == pytest.approx(3 * round(grid.max_step, 1) / n)
+    plain = ex.tracking_study(model, sensor, bg, 1, np.random.default_rng(8), n_frames=40)
+    with pytest.raises(ValueError, match="without map_free"):
+        ex.map_free_table({"easy": plain}, {"easy": (model, sensor)}, {"easy": mfree})
+    with pytest.raises(ValueError, match="nothing for the conditions"):
+        ex.map_free_table({"easy": trials}, {"easy": (model, sensor)}, {})
+
+
+# ---------------------------------------------------------------- Sec. 3: eq. (9) and the convergence of A
+def test_eq9_table_holds_for_the_weighted_statistics():
+    X = mf.parabolic_surface(600, np.random.default_rng(0))
+    model = dma.learn_manifold(X, 3, 4, np.random.default_rng(1), dim=2)
+    g = ex.responsibilities(model, X)
+    assert g.shape == (600, 3) and np.allclose(g.sum(axis=1), 1.0)
+    t = ex.eq9_table(model, X)
+    assert list(t["points"]) == np.bincount(model.assign(X), minlength=3).tolist()
+    assert np.allclose(t["E2 of eq. (9)"], t["weighted MSE"], rtol=1e-9)
+    # the model's own covariance describes the weighted points up to EM's stopping tolerance
+    assert np.allclose(t["E2 of the model"], t["weighted MSE"], rtol=0.2)
+    with pytest.raises(ValueError, match="columns"):
+        ex.responsibilities(model, X[:, :2])
+
+
+def test_stationary_and_sample_path():
+    A = np.array([[0.9, 0.1, 0.0], [0.0, 0.5, 0.5], [0.2, 0.0, 0.8]])
+    pi = ex.stationary(A)
+    assert np.allclose(pi @ A, pi) and pi.sum() == pytest.approx(1.0)
+    path = ex.sample_path(A, 60000, np.random.default_rng(0), start=1)
+    assert path[0] == 1
+    assert np.allclose(np.bincount(path, minlength=3) / len(path), pi, atol=0.02)
+    nxt = path[1:][path[:-1] == 1]
+    assert set(nxt.tolist()) <= {1, 2} and abs((nxt == 2).mean() - 0.5) < 0.03
+    with pytest.raises(ValueError, match="square"):
+        ex.stationary(np.ones((2, 3)))
+
+
+def test_transition_convergence_follows_the_prediction():
+    A = np.array([[0.6, 0.4, 0.0], [0.0, 0.3, 0.7], [0.5, 0.0, 0.5]])
+    t = ex.transition_convergence(A, (300, 30000), 8, np.random.default_rng(2))
+    assert list(t["transitions N"]) == [300, 30000]
+    err, pred = t["Frobenius error"].to_numpy(), t["predicted"].to_numpy()
+    assert err[1] < err[0] / 5  # 100 times the data, about 10 times less error
+    assert np.allclose(err, pred, rtol=0.5)
+    assert pred[0] / pred[1] == pytest.approx(10.0)
+    assert (t["unvisited states"] == 0).all()
+    with pytest.raises(ValueError, match="sizes"):
+        ex.transition_convergence(A, (), 2, np.random.default_rng(0))
+
+
+def test_sensitivity_table_tolerances(slotcar):
+    train, bg, _, _ = slotcar
+    video = make_slotcar_video(60, np.random.default_rng(8))
+    rows, _ = ex.sensitivity_study(train, video, bg, (2, 4), (3,), seed=3)
+    model, _ = ex.fit_slotcar(train, np.random.default_rng(3), n_regions=2, n_prototypes=3, background=bg)
+    assert rows[0]["path step [px]"] == pytest.approx(ex.path_step(model))
+    table, tol = ex.sensitivity_table(rows, 60, 6)
+    for col, n in (("viterbi error [px]", 60), ("viterbi error, hidden [px]", 6)):
+        t = tol[col]
+        for r in rows:  # every row's one-flip allowance is covered
+            if r[col] > 0:
+                assert t.atol + t.rtol * r[col] >= 3 * r["path step [px]"] / n - 1e-12
+    assert list(table.columns)[-1] == "path step [px]"
+    with pytest.raises(ValueError, match="rows"):
+        ex.sensitivity_table([], 60, 6)
+
+
+def test_median_tolerance_covers_every_row():
+    rng = np.random.default_rng(1)
+    rows = [rng.exponential(scale, size=(12, 20)) for scale in (5.0, 300.0)]
+    tol = ex.median_tolerance(rows)
+    assert tol.kind == "statistical" and tol.atol == 0
+    for e in rows:  # the allowance covers one drive changing arbitrarily, in every row
+        assert tol.rtol * np.median(e) >= ex.median_shift_bound(e)
+    assert (100 * tol.rtol).is_integer()
+    with pytest.raises(ValueError, match="one"):
+        ex.median_tolerance([])
+    with pytest.raises(ValueError, match="zero"):
+        ex.median_tolerance([np.zeros((3, 4))])
+
+
+def test_covering_tolerance():
+    t = ex.covering_tolerance([0.1, 0.5], [1.0, 8.0], "why")
+    assert t.atol == pytest.approx(0.1) and t.rtol == pytest.approx(0.05)
+    assert t.atol + t.rtol * 8.0 >= 0.5 and t.atol + t.rtol * 1.0 >= 0.1
+    with pytest.raises(ValueError, match="> 0"):
+        ex.covering_tolerance([0.1], [0.0], "why")
+    with pytest.raises(ValueError, match="values"):
+        ex.covering_tolerance([0.1, 0.2], [1.0], "why")

@@ -20,7 +20,44 @@ from projtrack.scenes import ellipses as S  # noqa: E402
 def test_demo_interval_is_an_interval_containing_eq26():
     X_lo, X_hi = XP.demo_interval()
     assert E.in_interval(S.X26, X_lo, X_hi)
-    assert np.allclose(E.axes(X_lo)[0], [1.4, 0.6]) and np.allclose(E.axes(X_hi)[0], [3.2, 1.6])
+    assert np.allclose(E.axes(X_lo)[0], [1.4, 0.6]) and np.allclose(E.axes(X_hi)[0], [4.8, 2.4])
+    # as in the paper, the outer bound leaves the plot area [-3.2, 3.2]^2 of the four-panel figures
+    assert np.sqrt(X_hi[0, 0]) > 3.2 and np.sqrt(X_hi[1, 1]) > 3.2
+
+
+def test_interval_readings_contain_eq26_and_start_with_ours():
+    readings = XP.interval_readings()
+    assert len(readings) == 5
+    first = next(iter(readings.values()))
+    assert all(np.array_equal(a, b) for a, b in zip(first, XP.demo_interval()))
+    for lo, hi in readings.values():
+        assert E.in_interval(S.X26, lo, hi)
+
+
+def test_constraints_inactive_and_interval_bound_study():
+    X_lo, X_hi = XP.demo_interval()
+    Xl = np.stack([S.X26, -np.eye(2), 30 * np.eye(2)])
+    assert XP.constraints_inactive(Xl, X_lo, X_hi).tolist() == [True, False, False]
+    small = XP.shown_static_draw(0.3, np.random.default_rng(26), n_draws=20)
+    large = XP.shown_static_draw(9.0, np.random.default_rng(1994), non_psd_only=True, n_draws=20)
+    tab = XP.interval_bound_study(small["W"], large["W"], large["pool"], XP.interval_readings())
+    assert list(tab["interval (semi-axes)"]) == list(XP.interval_readings())
+    assert ((tab.iloc[:, 1:] >= 0) & (tab.iloc[:, 1:] <= 1)).all().all()
+    lo, hi = XP.demo_interval()
+    assert tab["F7: inactive"].iloc[0] == np.mean(XP.constraints_inactive(small["X_ls"], lo, hi))
+    # the interval estimate cannot both equal its inner bound and beat it
+    assert (tab["F9: interval = X_lo"] + tab["F9: interval beats X_lo"] <= 1).all()
+
+
+def test_snr_readings_pin_the_noise_reading():
+    tab = XP.snr_readings((0.3, 9.0))
+    ours = tab[tab["reading"].str.endswith("(ours)")]
+    alt = tab[~tab["reading"].str.endswith("(ours)")]
+    assert ours["SNR"].round(2).tolist() == [4.96, 0.91]
+    # read as the variance of log Y, the SNR is 1 / sqrt(exp(s2) - 1) whatever the ellipse
+    assert np.allclose(alt["SNR"], 1 / np.sqrt(np.expm1([0.3, 9.0])))
+    with pytest.raises(ValueError, match="variance"):
+        XP.snr_readings((0.0,))
 
 
 def test_ideal_supports_and_ls_estimates_recover_the_truth_without_noise():
@@ -90,13 +127,6 @@ def test_ls_psd_frequency_small_noise_is_almost_always_psd():
         XP.ls_psd_frequency([], 1, 50)
 
 
-def test_noise_reading_study_shares_our_draws():
-    ours = XP.ls_psd_frequency([(9.0, 8)], 2, 30)
-    tab = XP.noise_reading_study([(9.0, 8)], 2, 30)
-    assert list(tab["reading"]) == ["variance of the noise W (ours)", "variance of log Y"]
-    assert tab["P(LS not PSD)"].iloc[0] == ours["P(LS not PSD)"].iloc[0]
-
-
 def test_hyperplane_ranks_three_views_suffice():
     tab = XP.hyperplane_ranks(np.random.default_rng(0), ns=[2, 3], qs=[2, 3], n_draws=2)
     assert list(tab["q=3"]) == list(tab["n(n+1)/2"])
@@ -127,6 +157,15 @@ def test_ctilde_identity_study_finds_the_identities_exact():
         XP.ctilde_identity_study(3, np.random.default_rng(0), n_max=1)
 
 
+def test_projector_form_is_a_projector():
+    t = XP.projector_form_trial(np.random.default_rng(1), n_max=4)
+    assert max(v for k, v in t.items() if k not in ("rank", "expected_rank")) < 1e-12 and t["rank"] == t["expected_rank"]
+    tab, n_rank = XP.projector_form_study(10, np.random.default_rng(5), n_max=5)
+    assert n_rank == 10 and (tab["max deviation"] < 1e-12).all() and len(tab) == 6
+    with pytest.raises(ValueError, match="n_checks"):
+        XP.projector_form_study(0, np.random.default_rng(5))
+
+
 # --------------------------------------------------------------------------- dynamic
 @pytest.fixture(scope="module")
 def exp():
@@ -144,23 +183,101 @@ def test_relative_errors_and_no_data_baseline(exp):
         XP.no_data_estimate({"Xs": exp["Xs"]})
 
 
-def test_fig12_noise_study_matches_the_one_draw_estimate(exp):
+def _kkt_residual(x, x_hat, M):
+    # optimality of min (x - x_hat)^T M (x - x_hat) over PSD smat(x): X >= 0, G = smat(M (x - x_hat)) >= 0, <G, X> = 0
+    X, G = E.smat(x), E.smat(M @ (x - x_hat))
+    scale = max(1.0, np.abs(G).max() * max(1.0, np.abs(X).max()))
+    return max(-np.linalg.eigvalsh(X)[0], -np.linalg.eigvalsh(G)[0] / max(1.0, np.abs(G).max()), abs(np.sum(G * X)) / scale)
+
+
+def test_psd_project_2x2_meets_the_optimality_conditions():
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        F = rng.normal(size=(6, 3))
+        M, x_hat = F.T @ F, rng.normal(size=3) * 3
+        x = XP.psd_project_2x2(x_hat, M)
+        assert _kkt_residual(x, x_hat, M) < 1e-9
+    # a PSD estimate is returned unchanged, a negative definite one goes to zero, many at once
+    X = np.stack([E.svec(S.X26), E.svec(-np.eye(2))])
+    out = XP.psd_project_2x2(X, np.eye(3))
+    assert np.array_equal(out[0], X[0]) and np.allclose(out[1], 0)
+    with pytest.raises(ValueError, match="M"):
+        XP.psd_project_2x2(X[0], -np.eye(3))
+    with pytest.raises(ValueError, match="x_hat"):
+        XP.psd_project_2x2(np.zeros(4), np.eye(3))
+
+
+def test_psd_project_2x2_agrees_with_algorithm_1_and_the_sdp():
+    rng = np.random.default_rng(9)
+    for _ in range(5):
+        A = rng.normal(size=(5, 3))
+        y = A @ E.svec(np.diag([1.0, -0.5])) + rng.normal(size=5)
+        x_ls = np.linalg.lstsq(A, y, rcond=None)[0]
+        ours = E.smat(XP.psd_project_2x2(x_ls, A.T @ A))
+        alg1 = E.halfspace_reconstruct(None, None, np.zeros((2, 2)), None, A=A, y=y).X
+        sdp = E.sdp_reconstruct(A, y, np.zeros((2, 2)), None)
+        for other in (alg1, sdp):
+            assert np.linalg.norm(other - ours) <= 1e-3 * max(1.0, np.linalg.norm(ours))
+        f = lambda X: float(np.sum((A @ E.svec(X) - y) ** 2))  # noqa: E731
+        assert f(ours) <= f(sdp) * (1 + 1e-9)  # feasible and at least as good as the interior point
+
+
+def test_fig12_noise_study_matches_the_one_draw_estimates(exp):
     st = XP.fig12_noise_study(exp, 5, np.random.default_rng(2))
     assert st["X"].shape == (5, 24, 2, 2) and st["settle"].shape == (5,)
-    k = st["pick"]
+    k = 0
     Ys = [np.array([[v]]) for v in exp["ideal"] + st["W"][k]]
-    one = E.batch_estimate(Ys, exp["Cs"], exp["As"], exp["Bs"])
-    assert np.allclose(st["X"][k], one)
-    assert st["settle"][k] == XP.settling_step(st["err"][k])
+    assert np.allclose(st["X_ls"][k], E.batch_estimate(Ys, exp["Cs"], exp["As"], exp["Bs"]))
+    psd = E.batch_estimate(Ys, exp["Cs"], exp["As"], exp["Bs"], lower=0, method="sdp")
+    assert np.linalg.norm(st["X_psd"][k] - psd) <= 1e-3 * np.linalg.norm(psd)
+    assert all(E.is_psd(X) for X in st["X_psd"][k])
+    # constrained at time 0 is the PSD-constrained X_0; the shown draw is the median settling of the PSD estimate
+    assert np.allclose(st["X_time_k"][:, 0], st["X_psd"][:, 0])
+    assert st["pick"] == XP.median_draw(st["settle_psd"], tiebreak=st["err_psd"].mean(axis=1))
+    assert np.array_equal(st["settle_psd"], XP.settling_step(st["err_psd"]))
     with pytest.raises(ValueError, match="n_draws"):
         XP.fig12_noise_study(exp, 0, np.random.default_rng(2))
+
+
+def test_time_k_psd_estimates_solve_eq24_in_x_k(exp):
+    st = XP.fig12_noise_study(exp, 2, np.random.default_rng(3))
+    k = 2
+    Ys = [np.array([[v]]) for v in exp["ideal"] + st["W"][0]]
+    O = E.observability_matrix(exp["Cs"], exp["As"])
+    y = E.batch_rhs(Ys, exp["Cs"], exp["As"], exp["Bs"])
+    Phi = np.linalg.matrix_power(E.congruence_operator(exp["A"]), k)
+    f = E.svec(E.simulate(np.zeros((2, 2)), exp["As"][:k], exp["Bs"][:k])[-1])
+    Ok = O @ np.linalg.inv(Phi)
+    sdp = E.sdp_reconstruct(Ok, y + Ok @ f, np.zeros((2, 2)), None)
+    assert np.linalg.norm(st["X_time_k"][0, k] - sdp) <= 1e-3 * np.linalg.norm(sdp)
+    tab = XP.time_k_study(exp, st, ks=(0, k))
+    assert (tab["direct vs propagated"] < 1e-9).all()
+    assert tab["constrained at k vs PSD X_0"].iloc[0] == 0
+    with pytest.raises(ValueError, match="k must be"):
+        XP.time_k_study(exp, st, ks=(24,))
+
+
+def test_estimator_table_and_the_no_data_comparison(exp):
+    st = XP.fig12_noise_study(exp, 6, np.random.default_rng(4))
+    err0 = XP.relative_errors(XP.no_data_estimate(exp), exp["Xs"])
+    tab = XP.estimator_table(st, err0)
+    assert list(tab["estimate"]) == [name for _, name in XP.ESTIMATORS]
+    assert tab["X_0 indefinite"].iloc[1] == 0  # PSD-constrained: never indefinite, even when of rank one
+    assert tab["X_0 indefinite"].iloc[0] == np.mean(np.linalg.eigvalsh(st["X_ls"][:, 0])[:, 0] < 0)
+    assert (tab["earlier than no data"] + tab["later than no data"] <= 1).all()
+    # the baseline against itself: never earlier, never later, never better
+    same = XP.estimator_table({**st, **{f"err_{k}": np.tile(err0, (6, 1)) for k, _ in XP.ESTIMATORS}}, err0)
+    assert (same[["earlier than no data", "later than no data", "better than no data at step 7"]] == 0).all().all()
+    with pytest.raises(ValueError, match="err_nodata"):
+        XP.estimator_table(st, err0[:5])
 
 
 def test_settling_study_of_our_drive_is_unscaled(exp):
     target = float(exp["ideal"].mean())
     out = XP.settling_study(S.periodic_drive(23, beta=1.0), target, 4, np.random.default_rng(1), exp["A"])
     assert out["scale"] == pytest.approx(2.0)  # our drive has beta = 2
-    assert 0 <= out["share in 3..11"] <= 1 and 0 <= out["median settling"] <= 24
+    assert out["no-data settling"] == XP.settling_step(XP.relative_errors(XP.no_data_estimate(exp), exp["Xs"]))
+    assert 0 <= out["earlier"] + out["later"] <= 1 and 0 <= out["median settling"] <= 24
     with pytest.raises(ValueError, match="drive_raw"):
         XP.settling_study(np.zeros((3, 2, 2)), target, 4, np.random.default_rng(1))
 
@@ -169,10 +286,35 @@ def test_model_trial_without_errors_is_the_exact_model(exp):
     errs, (w, dA, dB) = XP.model_trial(np.random.default_rng(4), exp, sd=0.0)
     assert np.all(dA == 0) and np.all(dB == 0)
     assert errs["exact model"] == errs["A and B errors (Fig. 13)"] == errs["A error only"]
+    assert errs["same, noise-free data"] < 1e-9  # exact model, exact data: the truth
     trials = XP.imperfect_model_study(exp, 3, np.random.default_rng(6))
-    assert len(trials) == 3 and set(trials[0][0]) >= {"exact model", "rel. error of A", "rel. error of B"}
+    assert len(trials) == 3 and set(trials[0][0]) >= {"exact model", "rel. error of A", "rel. error of B",
+                                                      "semi-axis error (Fig. 13)", "no data, A and B errors"}
     with pytest.raises(ValueError, match="sd"):
         XP.model_trial(np.random.default_rng(4), exp, sd=-1.0)
+
+
+def test_constant_baseline_and_model_error_scan(exp):
+    assert XP.constant_baseline_error(np.stack([S.X26] * 12)) == 0.0
+    base = XP.constant_baseline_error(exp["Xs"])
+    assert 0.3 < base < 1
+    scan = XP.model_error_scan(exp, (0.0, 0.5), 4, np.random.default_rng(1))
+    assert scan["better than the constant ellipse"].iloc[0] == 1.0  # no model error: the estimate tracks
+    assert scan["median error"].iloc[0] < scan["median error"].iloc[1]
+    with pytest.raises(ValueError, match="steps"):
+        XP.constant_baseline_error(exp["Xs"], slice(30, None))
+
+
+def test_shaping_family_misses_reflections_but_not_their_effect():
+    tab, dev = XP.shaping_family_study(200, np.random.default_rng(22))
+    assert dev["n_pos"] + dev["n_neg"] == 200 and 0 < dev["n_neg"] < 200
+    assert dev["rebuild"] < 1e-12 and dev["mirror"] < 1e-12 and dev["transpose"] < 1e-12
+    assert tab["share of the draws"].sum() == pytest.approx(1.0)
+    # every member of eq. (22) has det = tau^2 >= 0, so a reflection is out of reach
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        tau, alpha, psi, phi = rng.normal(size=4)
+        assert np.linalg.det(E.shaping_matrix(tau, alpha, psi, phi)) == pytest.approx(tau**2)
 
 
 def test_kalman_vs_batch_filter_equals_growing_window(exp):
@@ -195,6 +337,18 @@ def test_alg1_and_sdp_agree_on_random_problems():
     assert (cmp["violation Alg. 1"] < 1e-6).all() and len(times) == 6
     with pytest.raises(ValueError, match="tuple"):
         XP.compare_alg1_sdp([("x", 2)])
+
+
+def test_alg1_sdp_summary_judges_against_the_tolerances():
+    problems = XP.random_interval_problems(np.random.default_rng(2024), ns=[2, 3], per_n=2)
+    cmp, _ = XP.compare_alg1_sdp(problems)
+    by_problem, by_n = XP.alg1_sdp_summary(cmp)
+    assert by_problem["within tolerances"].all() and list(by_n["n"]) == [2, 3]
+    assert by_n["problems"].sum() == 4 and (by_n["within tolerances"] == by_n["problems"]).all()
+    strict, _ = XP.alg1_sdp_summary(cmp, dist_tol=0.0)
+    assert not strict["within tolerances"].any()
+    with pytest.raises(TypeError, match="comparison"):
+        XP.alg1_sdp_summary([1, 2])
 
 
 def test_constraint_violation():
@@ -245,6 +399,26 @@ def test_condition19_never_certifies_a_non_psd_estimate():
 
 
 # --------------------------------------------------------------------------- plots
+def test_page_figures_are_legible(exp):
+    from projtrack import figures
+
+    data = S.static_observations(0.3, np.random.default_rng(0))
+    X_lo, X_hi = XP.demo_interval()
+    err = np.abs(np.random.default_rng(1).normal(size=(5, 24)))
+    made = [P.truth_and_supports(S.X26, data, data, (5.0, 0.9)),
+            P.four_panels(S.X26, {"LS": S.X26, "PSD": S.X26, "interval": S.X26}, X_lo, X_hi, "t"),
+            P.error_bands(np.arange(24), {"a": err, "b": err}, err[0], "t"),
+            P.shaping_figure(exp["Xs"][:17], exp["Xs"][:17], 4 * np.eye(2)), P.drive_and_state(exp["Bs"], exp["Xs"]),
+            P.interval_figure(0.64 * np.eye(2), 4.84 * np.eye(2), [np.eye(2)], [np.eye(2)])]
+    for fig in made:
+        assert figures.legibility_problems(fig) == []
+        plt.close(fig)
+    C = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    fig = P.silhouette_figure(np.diag([4.0, 1.0, 0.25]), C, np.diag([4.0, 1.0]))
+    assert len(fig.axes) == 1
+    plt.close(fig)
+
+
 def test_plot_helpers_draw_conics_and_strips(exp):
     X_lo, X_hi = XP.demo_interval()
     est = {"LS": np.diag([2.0, -1.0]), "PSD": np.diag([2.0, 0.0]), "interval": X_lo}

@@ -65,7 +65,7 @@ def test_tracking_study_matches_its_trials_and_summary_counts():
 
 def test_equivalence_trial_and_study():
     row = ex.equivalence_trial(np.random.default_rng(0))
-    assert set(row) == {"paper", "fast", "sum", "pda", "size"}
+    assert set(row) == {"paper", "fast", "sum", "pda", "size", "norm", "pda_norm"}
     assert row["paper"] < 1e-12 and row["fast"] < 1e-12 and row["sum"] < 1e-12
     eq = ex.equivalence_study(5, 2024)
     assert isinstance(eq, pd.DataFrame) and len(eq) == 5
@@ -238,16 +238,38 @@ def test_growth_readings_and_their_baselines():
         ex.grows_geometrically({3: 1, 4: 2, 5: 4})
     growth = ex.vector_growth(range(3, 9))
     r = ex.growth_readings(growth, diag=range(3, 6))
-    # the vector length grows geometrically (reading 1 fails) but falls against eq. (1)
-    assert r["claim holds"].tolist() == [False, True]
-    # each criterion can fail: the baseline passes the one the length fails, and vice versa
-    assert r["baseline passes"].tolist() == [True, False]
+    # the vector length grows geometrically (reading 1 fails), falls fast against eq. (1) and
+    # levels off in T (readings 2 and 3 hold)
+    assert r["claim holds"].tolist() == [False, True, True]
+    # each criterion can fail: reading 1's baseline (not growing) passes, the combinatorial
+    # baselines of readings 2 and 3 fail
+    assert r["baseline holds"].tolist() == [True, False, False]
     assert r.iloc[0]["values"].startswith("7, 15, 31 (m = T = 3..5); x")
     assert "from 7 to 8" in r.iloc[0]["values"]
+    assert r.iloc[2]["values"] == "x1.00 to x1.06 from T = 6 to 7 (m = 3..7)"  # Table III: 120 -> 127
+    # a level-off threshold below the length's last step makes reading 3 fail
+    r3 = ex.growth_readings(growth, table_sizes=range(3, 6))  # T = 4 -> 5 at m = 5: 26 -> 31
+    assert not r3["claim holds"].iloc[2]
     with pytest.raises(TypeError, match="vector_growth"):
         ex.growth_readings(growth["vector length"])
     with pytest.raises(ValueError, match="diag"):
         ex.growth_readings(growth, diag=[3])
+    with pytest.raises(ValueError, match="table_sizes"):
+        ex.growth_readings(growth, table_sizes=[3])
+
+
+def test_relative_growth_table_separates_combinatorial_from_exponential():
+    t = ex.relative_growth_table(range(3, 8)).set_index("size along m = T")
+    passes = t[f"falls >= {ex.RELATIVE_FALL:g}x at every step"]
+    assert passes.to_dict() == {"vector length (Table III)": True, "eq. (1) itself": False,
+                                "eq. (1) of m - 1, T - 1": False, "n!": False, "n 2^n": True}
+    # Table III's length falls 2.9x to 4.9x per step; eq. (1) of the smaller problem 1.14x to 1.27x
+    assert t.loc["vector length (Table III)", "smallest fall per step"] == pytest.approx(
+        (7 / 34) / (15 / 209))  # the step from m = T = 3 to 4
+    assert 1.13 < t.loc["eq. (1) of m - 1, T - 1", "smallest fall per step"] < 1.15
+    assert t.loc["eq. (1) itself", "largest fall per step"] == 1.0
+    with pytest.raises(ValueError, match="diag"):
+        ex.relative_growth_table([3])
 
 
 def test_beta_in_situ_forms_t_squared_vectors_in_one_buffer():
@@ -285,14 +307,34 @@ def test_in_situ_study_and_summary():
     assert len(study) == 4 and (study["vectors formed"] == study["T^2"]).all()
     assert study["beta exact"].all() and study["ops = Table V count"].all()
     assert (study["reversed order: max |beta error|"] > 1e-3).all()
+    # the text's length loses the empty word: wrong beta exactly when m < T
+    short = study["m"] < study["T"]
+    assert (study.loc[short, "text's length: max |beta error|"] > 1e-3).all()
+    assert (study.loc[~short, "text's length: max |beta error|"] < 1e-12).all()
     s = ex.in_situ_summary(study)
     assert s["T"].tolist() == [3, 4] and s["vectors formed"].tolist() == [9, 16]
     assert s.iloc[0]["working vector, m = 3..4"] == "7, 11" and s["one vector, exact"].all()
+    assert np.isnan(s.iloc[0]["text's length: largest error (m < T)"])  # T = 3: no m < T
+    assert s.iloc[1]["text's length: largest error (m < T)"] > 1e-3
     broken = study.copy()
     broken.loc[0, "vectors formed"] = 8
     assert ex.in_situ_summary(broken).loc[0, "vectors formed"] == -1
     with pytest.raises(ValueError, match="in_situ_study"):
         ex.in_situ_summary(study.drop(columns="T^2"))
+
+
+def test_beta_in_situ_columns_share_one_sum_and_the_texts_length():
+    rng = np.random.default_rng(3)
+    w = scene.random_mvm(rng, 4, 5)
+    run = ex.beta_in_situ(w)
+    assert np.ptp(run.column_sums) <= 1e-12 * run.column_sums.max()
+    text = ex.beta_in_situ(w, length="text")
+    assert text.buffer_length == jpda.vector_size_text_formula(4, 5) == 15
+    assert np.abs(text.beta - jpda.beta_enumerated(w)).max() > 1e-3
+    w1 = scene.random_mvm(rng, 1, 3)  # m = 1: b' needs the empty word, which the text drops
+    assert np.isfinite(ex.beta_in_situ(w1, length="text").beta).all()
+    with pytest.raises(ValueError, match="length"):
+        ex.beta_in_situ(w, length="paper")
 
 
 def test_savings_and_their_paths():
@@ -304,6 +346,21 @@ def test_savings_and_their_paths():
     assert all(ex.savings(m, 3)[0] < 2 for m in (7, 12, 20))
     with pytest.raises(ValueError, match="m"):
         ex.savings(23, 3)
+
+
+def test_savings_orders_give_the_growth_exponents():
+    o = ex.savings_orders([7, 11, 12, 19, 20]).set_index("path")
+    assert o.loc["m = T = n", "n"] == "7 to 12" and o.loc["m = 3, T = n", "n"] == "7 to 20"
+    assert o.loc["m = T = n", "additions saved"] == "52.3 to 255830.3"
+    # m = 3: additions about linear in T, multiplications about quadratic
+    assert 0.9 < o.loc["m = 3, T = n", "exponent (additions)"] < 1.0
+    assert 1.8 < o.loc["m = 3, T = n", "exponent (multiplications)"] < 2.0
+    # T = 3: the additions saving levels off, multiplications about linear in m
+    assert o.loc["T = 3, m = n", "exponent (additions)"] < 0.2
+    assert 1.0 < o.loc["T = 3, m = n", "exponent (multiplications)"] < 1.2
+    assert o.loc["m = T = n", "exponent (additions)"] > 10  # faster than any low power
+    with pytest.raises(ValueError, match="two sizes"):
+        ex.savings_orders([7, 13, 20])
 
 
 def test_fast_count_readings_pin_the_words_on_one_cell():
@@ -345,3 +402,120 @@ def test_misprint_evidence_proves_the_papers_three_misprints():
 
 def test_analog_tolerance_is_declared():
     assert ex.ANALOG_TOLERANCE.kind == "statistical" and 0 < ex.ANALOG_TOLERANCE.rtol < 1e-3
+
+
+def test_sweep_over_reachable_words_is_exact_and_counts_the_paper_way():
+    rng = np.random.default_rng(8)
+    for m, T in ((0, 1), (1, 1), (2, 3), (3, 2), (4, 4), (5, 3), (3, 6)):
+        w = scene.random_mvm(rng, m, T)
+        w[1:] *= rng.random((m, T)) < 0.7  # partly gated
+        run = ex.beta_sweep_reachable(w)
+        np.testing.assert_allclose(run.beta, jpda.beta_enumerated(w), atol=1e-12)
+        assert np.ptp(run.column_sums) <= 1e-12 * run.column_sums.max()
+    # m = T = 7 on the all-ones MVM: below the all-words sweep of the package
+    run = ex.beta_sweep_reachable(ex.all_ones_mvm(7, 7))
+    assert (run.ops.additions, run.ops.multiplications) == (5187, 5027)
+    # forward A_1..A_6 (|v| <= t) and backward B_6..B_1 (|v| <= t): Table III's lengths 8..127
+    assert run.words == 2 * sum(jpda.vector_size(7, t + 1) for t in range(1, 7)) == 894
+    extra = ex.beta_sweep_reachable(ex.all_ones_mvm(7, 7), last_forward=True).ops
+    assert (extra.additions, extra.multiplications) == (5187 + 447, 5027 + 575)  # A_T: 128 words
+    # m = T = 2 by hand: A_1 is the column itself (free); B_1[v] = a_01 + sum_{j not in v} a_j1
+    # over |v| <= 1 (3 + 2 + 2 terms: 4 additions, B_2 = 1 so no product); beta of target 1
+    # reads one element each (3 products a_j0 B_1), of target 2 sums A_1 over 3, 2, 2 words
+    # (2 + 1 + 1 additions, 3 products a_j1)
+    small = ex.beta_sweep_reachable(ex.all_ones_mvm(2, 2)).ops
+    assert (small.additions, small.multiplications) == (4 + 2 + 1 + 1, 3 + 3)
+    fb = jpda.OpCount()
+    jpda.beta_forward_backward(ex.all_ones_mvm(7, 7), ops=fb)
+    assert run.ops.additions < fb.additions and run.ops.multiplications < fb.multiplications
+    t = ex.sweep_counts([3, 7])
+    assert t["reachable-words sweep"].tolist()[1] == 5187 + 5027
+    with pytest.raises(ValueError, match="at most 20"):
+        ex.beta_sweep_reachable(np.ones((22, 2)))
+    with pytest.raises(ValueError, match="positive probability"):
+        ex.beta_sweep_reachable(np.array([[0.0, 0.0], [1.0, 0.0]]))
+    with pytest.raises(ValueError, match=">= 0"):
+        ex.beta_sweep_reachable(-np.ones((3, 2)))
+
+
+def test_chirp_routing_can_fail():
+    sched = jpda.optical_vip_schedule(4, 6, 4)
+    words = jpda.mu_words(4)
+    r = ex.chirp_routing(sched, words, words)
+    assert r["one chirp"] and r["slope"] == 1 and r["offsets"] == {0: 0, 1: 1, 2: 2, 3: 4, 4: 8}
+    # consecutive places in Table II order: no single slope
+    r2 = ex.chirp_routing(sched, np.arange(16), np.arange(16))
+    assert not r2["one chirp"] and r2["slope"] is None and r2["collisions"] == 0
+    # one diode per slot: no collisions either, but one diode makes five products in a slot
+    alt = ex.slot_by_diode(sched)
+    r3 = ex.chirp_routing(alt, words, words)
+    assert r3["collisions"] == 0 and r3["products per diode"] == 5 and not r3["one chirp"]
+    # a collision is caught
+    bad = sched.copy()
+    bad[1, 3] = bad[0, 3]
+    assert ex.chirp_routing(bad, words, words)["collisions"] >= 1
+    t = ex.routing_table(4, 6, 4)
+    assert t["one chirp can route it"].tolist() == [True, False, False, False]
+    assert t["collisions"].tolist() == [0, 0, 0, 0]
+    with pytest.raises(ValueError, match="position"):
+        ex.chirp_routing(sched, words[:3], words)
+    with pytest.raises(ValueError, match="integers"):
+        ex.chirp_routing(sched, words + 0.5, words)
+    with pytest.raises(ValueError, match="rows"):
+        ex.chirp_routing(sched[:, :3], words, words)
+
+
+def test_median_interval_is_distribution_free():
+    assert ex.median_interval(np.arange(1, 201)) == (86.0, 115.0)  # the usual ranks for n = 200
+    assert ex.median_interval(np.arange(6, 0, -1)) == (1.0, 6.0)
+    with pytest.raises(ValueError, match="too few"):
+        ex.median_interval(np.arange(5))
+    table, err = ex.analog_accuracy((1e-3,), 20, 1)
+    lo, hi = table.iloc[0]["median: 95% low"], table.iloc[0]["median: 95% high"]
+    assert lo <= table.iloc[0]["median max |error| of beta"] <= hi
+
+
+def test_tracking_sampling_errors():
+    res = [{"jpda": {"rmse": 1.0, "swapped": s, "lost": 0, "tracks": 3},
+            "gnn": {"rmse": 2.0, "swapped": g, "lost": 1, "tracks": 3}} for s, g in ((0, 0), (1, 2), (0, 1), (0, 0))]
+    t, tol = ex.tracking_sampling(res)
+    assert t["tracker"].tolist() == ["JPDA", "GNN", "JPDA - GNN (paired)"]
+    x = np.array([0, 1, 0, 0]) / 3
+    assert t.loc[0, "swapped or lost"] == pytest.approx(x.mean())
+    assert t.loc[0, "standard error (runs)"] == pytest.approx(x.std(ddof=1) / 2)
+    d = x - np.array([1, 3, 2, 1]) / 3
+    assert t.loc[2, "swapped or lost"] == pytest.approx(d.mean())
+    assert t.loc[2, "standard error (runs)"] == pytest.approx(d.std(ddof=1) / 2)
+    assert tol["swapped or lost"].atol == pytest.approx(0.5)
+    with pytest.raises(ValueError, match="two"):
+        ex.tracking_sampling(res[:1])
+
+
+def test_normalization_summary_and_the_equivalence_trial():
+    study = ex.equivalence_study(20, 4)
+    n = ex.normalization_summary(study)
+    assert n["below 1e-12"].tolist() == [True, False]
+    assert (study["norm"] < 1e-12).all()
+    with pytest.raises(ValueError, match="equivalence_study"):
+        ex.normalization_summary(study.drop(columns="norm"))
+
+
+def test_permanent_by_interpolation_and_event_orders():
+    rng = np.random.default_rng(2)
+    for n in (1, 2, 3, 4, 5):
+        A = (rng.random((n, n)) < 0.7).astype(float)
+        assert ex.permanent_by_interpolation(A) == round(ex.permanent_rect(A))
+    assert ex.permanent_by_interpolation(np.ones((4, 4))) == 24
+    with pytest.raises(ValueError, match="0 and 1"):
+        ex.permanent_by_interpolation(np.full((2, 2), 0.5))
+    with pytest.raises(ValueError, match="square"):
+        ex.permanent_by_interpolation(np.ones((2, 3)))
+    v = np.array([[1, 1, 0], [1, 1, 1], [1, 0, 1]])  # Fig. 1
+    orders = ex.event_orders(v)
+    case5 = np.array([[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    pos5 = {k: [i + 1 for i, om in enumerate(mats) if np.array_equal(om, case5)] for k, mats in orders.items()}
+    assert pos5 == {"measurement 1 fastest": [5], "measurement 3 fastest": [8],
+                    "by detections, then measurement 1 fastest": [6],
+                    "by detections, then measurement 3 fastest": [8]}
+    col = list(jpda.iter_feasibility_matrices(v, order="colexicographic"))
+    assert all(np.array_equal(a, b) for a, b in zip(col, orders["measurement 1 fastest"]))

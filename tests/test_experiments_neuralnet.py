@@ -67,7 +67,7 @@ def test_simulate_validates_its_arguments():
 
 # ----------------------------------------------------------------------------- studies
 from projtrack import montecarlo  # noqa: E402
-from projtrack.experiments.neuralnet import (TABLE1_KEYS, bound_direct_check, bound_trial,  # noqa: E402
+from projtrack.experiments.neuralnet import (MODES, TABLE1_KEYS, bound_direct_check, bound_trial,  # noqa: E402
                                              evolution_trial, fixed_point_bound, sensitivity_cell,
                                              sensitivity_trial, table1_study, table1_trial, truth_index)
 
@@ -78,8 +78,10 @@ def test_table1_study_concatenates_the_trials_of_each_level():
     for i, n in enumerate([0.0, 2.5]):
         parts = montecarlo.run(table1_trial, 2, np.random.default_rng(30 + i), n, 1)
         assert set(out[n]) == set(TABLE1_KEYS)
-        for k in TABLE1_KEYS:
+        for k in set(TABLE1_KEYS) - {"mode"}:
             np.testing.assert_array_equal(out[n][k], np.concatenate([p[k] for p in parts]))
+        # a run is "correct" in its mode exactly when it is the paper's success
+        np.testing.assert_array_equal(out[n]["mode"] == "correct", out[n]["correct"])
     with pytest.raises(ValueError, match="multiple"):
         table1_study([0.0], 5, 2, 0)
     with pytest.raises(ValueError, match="noise level"):
@@ -88,16 +90,16 @@ def test_table1_study_concatenates_the_trials_of_each_level():
         table1_study(0.0, 2, 2, 0)
 
 
-def test_sensitivity_cell_counts_successes_and_wrong_stops():
-    ok, wrong = sensitivity_cell(0.0, 256, "ball", {}, [1, 2], 4, 2)
+def test_sensitivity_cell_counts_how_the_runs_end():
+    counts = sensitivity_cell(0.0, 256, "ball", {}, [1, 2], 4, 2)
     parts = montecarlo.run(sensitivity_trial, 2, np.random.default_rng([1, 2]), 0.0, 256, "ball", 2, {})
     conv = np.concatenate([p["converged"] for p in parts])
     good = np.concatenate([p["correct"] for p in parts])
-    assert (ok, wrong) == (int(good.sum()), int((conv & ~good).sum()))
-    assert 0 <= ok + wrong <= 4
-    # a huge unit makes D negligible: every admissible state is a fixed point, so runs stop, often wrong
-    ok_big, wrong_big = sensitivity_cell(0.0, 1e9, "ball", {"mode": "parallel"}, 3, 2, 2)
-    assert ok_big + wrong_big <= 2
+    assert list(counts) == list(MODES) and sum(counts.values()) == 4
+    assert (counts["correct"], counts["wrong"]) == (int(good.sum()), int((conv & ~good).sum()))
+    # parallel updates of the all-equal start flip whole frames together: every run ends in a 2-cycle
+    par = sensitivity_cell(0.0, 256, "ball", {"mode": "parallel"}, 3, 2, 2)
+    assert par["other cycle"] == 2
     with pytest.raises(TypeError, match="options"):
         sensitivity_trial(np.random.default_rng(0), 0.0, 256, "ball", 1, None)
 
@@ -276,24 +278,65 @@ def test_noise_and_size_sweeps_are_rows_of_their_cells():
 
 
 # ----------------------------------------------------------------------------- degraded data
-from projtrack.experiments.neuralnet import degraded_study, degraded_trial, draw_degraded  # noqa: E402
+from projtrack.experiments.neuralnet import (OUTCOMES, TOLERATED, degraded_outcome, degraded_study,  # noqa: E402
+                                             draw_degraded)
 
 
-def test_degraded_study_equals_trials_run_one_by_one():
-    rows = degraded_study([(1, 0), (0, 1)], 2, 2, seed=12)
-    rng = np.random.default_rng(12)
-    for row, (n_sp, n_mi) in zip(rows, [(1, 0), (0, 1)]):
-        trials = montecarlo.run(degraded_trial, 2, rng, n_sp, n_mi, 2)
-        assert row["intended state is a fixed point %"] == 100 * sum(f for f, _ in trials) / 2
-        assert row["net runs correct %"] == 100 * sum(k for _, k in trials) / 4
-        assert (row["spurious per frame"], row["missing detections"]) == (n_sp, n_mi)
-    d = draw_degraded(np.random.default_rng(1), 1, 0, 3)
-    assert d.D.shape == (3, 5, 5, 5) and d.X0.shape == (3, 4, 5, 5) and d.labels.shape == (5, 5)
+def test_draw_degraded_keeps_the_intended_assignment():
+    d = draw_degraded(np.random.default_rng(1), 1, 2, 3)
+    assert d.positions.shape == (5, 5, 3) and d.X0.shape == (3, 4, 5, 5) and d.labels.shape == (5, 5)
+    assert d.padded.sum() == 2 and np.all(d.positions[d.padded] == 0.0)
     assert nn.is_correct_assignment(d.intended, d.labels)
-    with pytest.raises(ValueError, match="condition"):
-        degraded_study([(1,)], 1, 1, seed=0)
     with pytest.raises(ValueError, match="n_starts"):
         draw_degraded(np.random.default_rng(0), 0, 0, 0)
+
+
+def test_degraded_outcome_classifies_each_ending():
+    rng = np.random.default_rng(4)
+    d = draw_degraded(rng, 1, 1, 1)
+    n_m = d.labels.shape[1]
+    X = nn.assignment_to_states(d.intended, n_m)
+    assert degraded_outcome(X, True, d) == "intended"
+    assert degraded_outcome(X, False, d) == "not converged"
+    a = int(np.flatnonzero(d.padded.any(axis=1))[0])         # the frame with the missing detection
+    i = int(d.labels[a, d.padded[a]][0])                      # whose detection is missing
+    spur = int(np.flatnonzero(d.labels[a] < 0)[0])
+    gap = d.intended.copy()
+    gap[i, a] = spur
+    assert degraded_outcome(nn.assignment_to_states(gap, n_m), True, d) == "gap filled by a spurious measurement"
+    b = (a + 1) % 5                                           # a complete frame
+    wrong = d.intended.copy()
+    wrong[0, b] = int(np.flatnonzero(d.labels[b] < 0)[0])
+    assert degraded_outcome(nn.assignment_to_states(wrong, n_m), True, d) == "spurious on a true track"
+    swap = d.intended.copy()
+    swap[[0, 1], b] = swap[[1, 0], b]
+    assert degraded_outcome(nn.assignment_to_states(swap, n_m), True, d) == "other wrong"
+    assert degraded_outcome(np.ones_like(X), True, d) == "other wrong"    # not admissible
+    assert set(TOLERATED) < set(OUTCOMES)
+    with pytest.raises(TypeError, match="DegradedDraw"):
+        degraded_outcome(X, True, None)
+
+
+def test_degraded_study_runs_every_reading_on_the_same_draws():
+    conditions = [("spurious", 1, 0), ("missing", 0, 1)]
+    readings = [("printed", 256, {}), ("large unit", 4096, {}), ("frames", 256, {"frame_rule": True})]
+    rows = degraded_study(conditions, readings, 2, 2, seed=12)
+    assert [(r["condition"], r["reading"]) for r in rows] == [(c[0], r[0]) for c in conditions for r in readings]
+    for c, (label, n_sp, n_mi) in enumerate(conditions):
+        draws = montecarlo.run(draw_degraded, 2, np.random.default_rng([12, c]), n_sp, n_mi, 2)
+        D = np.stack([nn.distance_tensor(d.positions / 256.0) for d in draws])
+        r = nn.run_net(np.repeat(D, 2, axis=0), np.concatenate([d.X0 for d in draws]))
+        want = [degraded_outcome(r.states[k], bool(r.converged[k]), draws[k // 2]) for k in range(4)]
+        row = rows[3 * c]
+        assert row["tolerated %"] == 25 * sum(w in TOLERATED for w in want)
+        assert sum(row[f"{o} %"] for o in OUTCOMES) == pytest.approx(100.0)
+        assert np.isnan(rows[3 * c + 2]["intended is a fixed point %"])
+    with pytest.raises(ValueError, match="conditions"):
+        degraded_study([(1,)], readings, 1, 1, seed=0)
+    with pytest.raises(TypeError, match="options"):
+        degraded_study(conditions, [("x", 256, None)], 1, 1, seed=0)
+    with pytest.raises(ValueError, match="unit"):
+        degraded_study(conditions, [("x", 0, {})], 1, 1, seed=0)
 
 
 def test_direct_check_trial_draws_its_own_data_set():
@@ -345,8 +388,9 @@ def test_fmt_p_bounds_tiny_probabilities():
 # ----------------------------------------------------------------------------- the sensitivity study
 import pandas as pd  # noqa: E402
 
-from projtrack.experiments.neuralnet import (SENSITIVITY_RULES, sensitivity_readings, sensitivity_seed,  # noqa: E402
-                                             sensitivity_study, sensitivity_verdicts)
+from projtrack.experiments.neuralnet import (SENSITIVITY_RULES, ci_step, mode_probability,  # noqa: E402
+                                             sensitivity_readings, table1_readings, sensitivity_seed, sensitivity_study,
+                                             sensitivity_table, sensitivity_verdicts, ten_run_replications)
 
 
 def test_sensitivity_readings_grid():
@@ -384,53 +428,350 @@ def test_sensitivity_study_runs_each_cell_with_its_seed():
     assert list(sens["reading"]) == [r[0] for r in readings for _ in range(2)]
     assert list(sens["noise %"]) == [0.0, 2.5] * 3
     for (label, u, law, kw), (_, s) in zip(readings, sens.groupby("reading", sort=False)):
-        for i, (n, ok, wrong) in enumerate(zip(s["noise %"], s["successes"], s["converged but wrong"])):
+        for i, (_, row) in enumerate(s.iterrows()):
+            n = row["noise %"]
             seed = sensitivity_seed(label.split(",")[0], u, laws.index(law), i, n)
-            assert (ok, wrong) == sensitivity_cell(n, u, "ball" if n == 0 else law, kw, seed, 2, 2)
+            assert {m: row[m] for m in MODES} == sensitivity_cell(n, u, "ball" if n == 0 else law, kw, seed, 2, 2)
     # the noise-free cell of a rule and unit is shared by the noise laws
-    assert sens.iloc[0]["successes"] == sens.iloc[2]["successes"]
-    assert (sens["success %"] == 50 * sens["successes"]).all()
+    assert sens.iloc[0]["correct"] == sens.iloc[2]["correct"]
+    assert (sens[list(MODES)].sum(axis=1) == sens["runs"]).all()
+    table, tol = sensitivity_table(sens)
+    assert list(table.columns) == ["reading", "noise %"] + [f"{m} %" for m in MODES]
+    assert (table["correct %"] == 50 * sens["correct"]).all() and tol["*"].atol == 50.0
     with pytest.raises(ValueError, match="noise law"):
         sensitivity_study(readings, [0.0], ["ball"], 2, 1)
     with pytest.raises(ValueError, match="readings"):
         sensitivity_study([("as printed", 256)], [0.0], laws, 2, 1)
 
 
+def _sens(rows):
+    """A sensitivity table from (reading, noise, correct, wrong, cycle with the truth, wandering) rows of 4 runs."""
+    out = []
+    for r, n, c, w, q, wa in rows:
+        out.append({"reading": r, "noise %": n, "runs": 4, "correct": c, "wrong": w, "cycle with the truth": q,
+                    "other cycle": 4 - c - w - q - wa, "wandering": wa})
+    return pd.DataFrame(out)
+
+
 def test_sensitivity_verdicts_apply_the_criterion():
-    sens = pd.DataFrame({"reading": ["a", "a", "b", "b"], "noise %": [0.0, 2.5] * 2,
-                         "successes": [4, 4, 4, 0], "converged but wrong": [0, 0, 0, 2]})
-    v = sensitivity_verdicts(sens, [10, 9], 4)
-    assert list(v["reading"]) == ["a", "b"] and list(v["2.5%"]) == ["100", "0"]
-    assert list(v["wrong convergences"]) == ["0/8", "2/8"]
+    sens = _sens([("a", 0.0, 4, 0, 0, 0), ("a", 5.0, 4, 0, 0, 0), ("b", 0.0, 4, 0, 0, 0), ("b", 5.0, 0, 2, 1, 1)])
+    v, tol = sensitivity_verdicts(sens, [10, 9])
+    assert list(v["reading"]) == ["a", "b"]
     assert v["P(table >= paper's)"].tolist() == pytest.approx([1.0, 0.0])
     assert v["reproduces Table 1"].tolist() == [True, False]
     assert v.loc[1, "at 95% high"] == pytest.approx(p_table([1.0, rate_ci(0, 4)[1]], [10, 9]))
+    assert v.loc[1, "P(... and no wrong stop)"] == 0.0
+    # reading a has no failures at the level where the paper has them; b has 4: 1 cycle, 1 wandering
+    assert np.isnan(v.loc[0, "P(paper's failure modes)"]) and not v.loc[0, "failure modes seen"]
+    assert v.loc[1, "P(paper's failure modes)"] == pytest.approx(mode_probability(0.25, 0.25))
+    # the tolerance is the largest change one run makes: here a success more in b's noisy cell
+    assert tol["P(table >= paper's)"].atol >= p_row(0.25, 9) - 1e-12
     with pytest.raises(ValueError, match="paper_k"):
-        sensitivity_verdicts(sens, [10], 4)
+        sensitivity_verdicts(sens, [10])
     with pytest.raises(TypeError, match="DataFrame"):
-        sensitivity_verdicts(sens.to_dict(), [10, 9], 4)
+        sensitivity_verdicts(sens.to_dict(), [10, 9])
     with pytest.raises(ValueError, match="columns"):
-        sensitivity_verdicts(sens.drop(columns="successes"), [10, 9], 4)
+        sensitivity_verdicts(sens.drop(columns="correct"), [10, 9])
 
 
 def test_table1_readings_score_each_level():
     from projtrack.experiments.neuralnet import table1_readings
     res = {0.0: {"correct": np.array([True, True, False, False]), "converged": np.array([True, True, True, False]),
-                 "iterations": np.array([10, 20, 30, 99]), "status": np.array(["converged"] * 3 + ["wandering"]),
+                 "iterations": np.array([10, 20, 30, 99]), "mode": np.array(["correct"] * 2 + ["wrong", "wandering"]),
                  "optimal_correct": np.array([True, False])},
            2.5: {"correct": np.zeros(4, bool), "converged": np.zeros(4, bool), "iterations": np.zeros(4, int),
-                 "status": np.array(["oscillating"] * 4), "optimal_correct": np.array([True])}}
-    t = table1_readings(res, [10, 9], [19, 16])
+                 "mode": np.array(["other cycle"] * 3 + ["cycle with the truth"]), "optimal_correct": np.array([True])}}
+    t, tol = table1_readings(res, [10, 9], [19, 16])
     assert list(t["noise %"]) == [0.0, 2.5] and list(t["success %"]) == [50.0, 0.0]
     assert t.loc[0, "iterations"] == 20.0 and np.isnan(t.loc[1, "iterations"])
-    assert t.loc[0, "converged but wrong"] == 1 and t.loc[0, "wandering"] == 1 and t.loc[1, "oscillating"] == 4
+    assert t.loc[0, "wrong %"] == 25.0 and t.loc[0, "wandering %"] == 25.0 and t.loc[1, "other cycle %"] == 75.0
+    assert t.loc[1, "cycle with the truth %"] == 25.0
     assert list(t["optimum correct %"]) == [50.0, 100.0]
     lo, hi = rate_ci(2, 4)
-    assert t.loc[0, "95% %"] == f"{100 * lo:.1f}-{100 * hi:.1f}" and t.loc[0, "P(k >= paper's)"] == fmt_p(p_row(0.5, 10))
-    assert t.loc[0, "k/10 95% range"] == "{}-{}".format(*k_range(lo, hi))
+    assert (t.loc[0, "95% low %"], t.loc[0, "95% high %"]) == pytest.approx((100 * lo, 100 * hi))
+    assert t.loc[0, "P(k >= paper's)"] == pytest.approx(p_row(hi, 10))
+    assert tol["success %"].atol == 25.0 and tol["95% high %"].atol == pytest.approx(100 * ci_step(4))
+    assert tol["iterations"].atol == pytest.approx(50 / 3)     # three converged runs at 0% noise
     with pytest.raises(ValueError, match="levels"):
         table1_readings(res, [10], [19])
     with pytest.raises(ValueError, match="lacks"):
         table1_readings({0.0: {"correct": np.ones(2, bool)}}, [10], [19])
     with pytest.raises(TypeError, match="mapping"):
         table1_readings([1, 2], [10, 9], [19, 16])
+
+
+def test_ci_step_is_the_largest_move_of_a_bound():
+    steps = [abs(rate_ci(k + 1, 20)[j] - rate_ci(k, 20)[j]) for k in range(20) for j in (0, 1)]
+    assert ci_step(20) == pytest.approx(max(steps))
+    assert 1 / 20 < ci_step(20) < 3 / 20
+
+
+def test_ten_run_replications_cut_the_runs_in_tens():
+    res = {0.0: {"correct": np.array([True] * 10 + [True] * 9 + [False])},
+           5.0: {"correct": np.array([True] * 9 + [False] + [False] * 10)}}
+    t, as_good, tol = ten_run_replications(res, [10, 9])
+    assert list(t["median k/10"]) == [9.5, 4.5] and list(t["min k/10"]) == [9.0, 0.0]
+    assert list(t["as good as the paper's %"]) == [50.0, 50.0]
+    assert as_good == 1                                   # only the first ten of both levels
+    assert tol["as good as the paper's %"].atol == 50.0 and tol["median k/10"].atol == 1.0
+    with pytest.raises(ValueError, match="multiple"):
+        ten_run_replications({0.0: {"correct": np.ones(5, bool)}}, [10])
+    with pytest.raises(ValueError, match="paper_k"):
+        ten_run_replications(res, [10])
+
+
+# ----------------------------------------------------------------------------- failure modes
+from projtrack.experiments.neuralnet import (FAILURE_MODES, draws_modes, mode_counts,  # noqa: E402
+                                             one_pairing_away, run_modes)
+
+
+def test_one_pairing_away_means_one_target_in_one_frame():
+    truth = nn.assignment_to_states(np.array([[0, 0, 0], [1, 1, 1]]), 2)
+    off = truth.copy(); off[0, 0, 1] = 0
+    moved = truth.copy(); moved[0, :, 2] = [0, 1]
+    swap = nn.assignment_to_states(np.array([[0, 1, 0], [1, 0, 1]]), 2)
+    assert one_pairing_away(off, truth) and one_pairing_away(moved, truth)
+    assert not one_pairing_away(swap, truth) and not one_pairing_away(truth, truth)
+    with pytest.raises(ValueError, match="shape"):
+        one_pairing_away(truth[0], truth)
+
+
+def test_run_modes_finds_the_other_state_of_a_two_cycle():
+    # parallel updates from the all-equal start: whole frames switch on and off together
+    draw = draw_simulation(np.random.default_rng(2), 2, 1, 0.0)
+    res = nn.run_net(draw.D, draw.X0, mode="parallel", max_iter=6)
+    assert set(res.status) == {"oscillating"} and set(res.period) == {2}
+    labels = [s.labels for s in draw.scenes]
+    assert list(run_modes(draw.D, res, labels, mode="parallel")) == ["other cycle"] * 2
+    # a made-up two-cycle between the truth and a state one pairing away is recognised as the paper's
+    truth = nn.assignment_to_states(np.argsort(labels[0], axis=1).T, 4)
+    near = truth.copy(); near[0, :, 2] = 0
+    fake = nn.NetResult(np.stack([near, truth]), np.array(["oscillating", "converged"]), np.array([50, 3]),
+                        np.array([2, 1]))
+    D = np.repeat(draw.D[:1], 2, axis=0)
+    modes = run_modes(D, fake, [labels[0]] * 2)
+    assert modes[1] == "correct"
+    # the first run's partner is one sweep away from `near`; it is the paper's mode only if that sweep gives the truth
+    partner = nn.run_net(D[:1], near[None].astype(float), max_iter=1).states[0]
+    assert modes[0] == ("cycle with the truth" if np.array_equal(partner, truth) else "other cycle")
+    with pytest.raises(ValueError, match="labels"):
+        run_modes(draw.D, res, labels[:1])
+    with pytest.raises(TypeError, match="NetResult"):
+        run_modes(draw.D, None, labels)
+
+
+def test_draws_modes_equal_modes_run_draw_by_draw():
+    draws = [draw_simulation(np.random.default_rng(s), 2, 2, 5.0, unit=2048.0) for s in range(3)]
+    results = run_draws(draws)
+    got = draws_modes(draws, results)
+    for d, r, m in zip(draws, results, got):
+        labels = [d.scenes[k // 2].labels for k in range(4)]
+        np.testing.assert_array_equal(m, run_modes(np.repeat(d.D, 2, axis=0), r, labels))
+        assert sum(mode_counts(m).values()) == 4
+    with pytest.raises(ValueError, match="modes"):
+        mode_counts(np.array(["sleeping"]))
+    assert FAILURE_MODES == MODES[1:]
+
+
+def test_mode_probability_needs_both_modes_among_three_failures():
+    assert mode_probability(0.0, 1.0) == 0.0 and mode_probability(1.0, 0.0) == 0.0
+    assert mode_probability(0.5, 0.5) == pytest.approx(1 - 2 / 8)
+    assert mode_probability(0.2, 0.3) == pytest.approx(0.5 ** 3 - 0.2 ** 3 - 0.3 ** 3)
+    assert mode_probability(0.0, 0.0) == 0.0
+    with pytest.raises(ValueError, match="<= 1"):
+        mode_probability(0.7, 0.7)
+
+
+# ----------------------------------------------------------------------------- other update rules
+import itertools  # noqa: E402
+
+from projtrack.experiments.neuralnet import (frame_descent, frame_rule_study, nearest_admissible,  # noqa: E402
+                                             update_order_study)
+
+
+def test_nearest_admissible_takes_the_largest_start_values():
+    X0 = np.zeros((2, 3, 3))
+    X0[0, 2, :] = 1.0
+    X0[1, 2, 0], X0[1, 1, 0] = 0.9, 0.5       # frame 0: target 1 cannot have measurement 2
+    A = nearest_admissible(X0)
+    assert A[0].tolist() == [2, 2, 2] and A[1, 0] == 1
+    assert all(len(set(A[:, a])) == 2 for a in range(3))
+    with pytest.raises(ValueError, match="N_T <= N_M"):
+        nearest_admissible(np.zeros((3, 2, 3)))
+
+
+def test_frame_descent_stops_where_no_frame_can_improve():
+    scene = make_tracks(np.random.default_rng(21), 4, 5, noise_percent=5.0)
+    D = nn.distance_tensor(scene.positions / 256)
+    start = np.stack([np.random.default_rng(3).permutation(4) for _ in range(5)], axis=1)
+    A, rounds, converged = frame_descent(D, start)
+    assert converged and 0 <= rounds < 50
+    cost = nn.assignment_cost(A, D)
+    assert cost <= nn.assignment_cost(start, D) + 1e-12
+    for f in range(5):                                   # brute force: no frame re-assignment is cheaper
+        for p in itertools.permutations(range(4)):
+            B = A.copy(); B[:, f] = p
+            assert nn.assignment_cost(B, D) >= cost - 1e-9
+    # noise-free data: started from the truth it stays there, in zero rounds
+    clean = make_tracks(np.random.default_rng(22), 4, 5)
+    truth = np.argsort(clean.labels, axis=1).T
+    A, rounds, converged = frame_descent(nn.distance_tensor(clean.positions / 256), truth)
+    assert rounds == 0 and converged and np.array_equal(A, truth)
+    with pytest.raises(ValueError, match="admissible"):
+        frame_descent(D, np.zeros((4, 5), dtype=int))
+    with pytest.raises(ValueError, match="initial"):
+        frame_descent(D, np.zeros((4, 4), dtype=int))
+
+
+def test_frame_rule_study_runs_on_the_table1_draws():
+    out = frame_rule_study([0.0, 5.0], 4, 2, seed=30)
+    for i, n in enumerate([0.0, 5.0]):
+        draws = montecarlo.run(draw_simulation, 2, np.random.default_rng(30 + i), 2, 1, n)
+        want = [frame_descent(D, nearest_admissible(X0)) for d in draws for D, X0 in zip(d.D, d.X0)]
+        np.testing.assert_array_equal(out[n]["rounds"], [r for _, r, _ in want])
+        assert out[n]["correct"].dtype == bool and out[n]["correct"].shape == (4,)
+    with pytest.raises(ValueError, match="multiple"):
+        frame_rule_study([0.0], 3, 2, seed=0)
+
+
+def test_update_order_study_runs_both_orders_on_the_same_draws():
+    table, tol = update_order_study([0.0], [256], 4, 2, seed=8)
+    assert list(table.columns) == ["unit (px)", "noise %", "serial converged %", "serial sweeps",
+                                   "parallel converged %", "parallel sweeps"]
+    draws = montecarlo.run(draw_simulation, 2, np.random.default_rng([8, 0, 0]), 2, 1, 0.0, unit=256.0)
+    for mode in ["serial", "parallel"]:
+        res = run_draws(draws, mode=mode)
+        assert table.loc[0, f"{mode} sweeps"] == float(np.concatenate([r.iterations for r in res]).mean())
+        assert table.loc[0, f"{mode} converged %"] == 100 * float(np.concatenate([r.converged for r in res]).mean())
+    assert table.loc[0, "parallel converged %"] == 0.0 and table.loc[0, "parallel sweeps"] == 50.0
+    assert tol["serial sweeps"].atol == 12.5 and tol["serial converged %"].atol == 25.0
+    with pytest.raises(ValueError, match="empty"):
+        update_order_study([], [256], 2, 2, seed=0)
+
+
+def test_frame_rule_table_reads_the_study():
+    from projtrack.experiments.neuralnet import frame_rule_table
+    frames = {0.0: {"correct": np.array([True, False]), "converged": np.array([True, True]),
+                    "rounds": np.array([2, 4])}}
+    t, tol = frame_rule_table(frames, [10])
+    assert t.loc[0, "correct %"] == 50.0 and t.loc[0, "stopped wrong %"] == 50.0 and t.loc[0, "rounds"] == 3.0
+    assert tol["*"].atol == 50.0 and tol["rounds"].atol == 25.0
+    with pytest.raises(ValueError, match="paper_k"):
+        frame_rule_table(frames, [10, 9])
+
+
+# ----------------------------------------------------------------------------- eq. (8) and eq. (10)
+from projtrack.experiments.neuralnet import (central_differences, connection_check, eq8_term3_check,  # noqa: E402
+                                             term3_eq9, term3_printed, term3_read)
+
+
+def test_term3_as_printed_is_not_the_integral_of_eq9():
+    X = np.random.default_rng(5).random((3, 3, 4))
+    check = eq8_term3_check(X)
+    assert check["read"] < 1e-7 < 1.0 < check["printed"]
+    # the printed form puts N_T measurements on every target: the correct assignment does not minimise it
+    A = nn.assignment_to_states(np.array([[0, 0, 0, 0], [1, 1, 1, 1], [2, 2, 2, 2]]), 3).astype(float)
+    assert term3_read(A) == 0.0 and term3_printed(A) == 15 * 3 * 4 * (1 - 3) ** 2
+    assert term3_printed(np.ones((3, 3, 4))) == 0.0
+    np.testing.assert_allclose(term3_eq9(A), 0.0)
+    np.testing.assert_allclose(central_differences(lambda Y: float((Y ** 2).sum()), X), 2 * X, atol=1e-7)
+    with pytest.raises(ValueError, match="shape"):
+        term3_read(np.zeros((3, 3)))
+    with pytest.raises(TypeError, match="callable"):
+        central_differences(None, X)
+
+
+def test_connection_check_counts_and_compares():
+    out = connection_check(3, 3, 3, np.random.default_rng(0))
+    assert out["neurons"] == 27 and out["T1 ones"] == 27 * 2 and out["T2 ones"] == 27 * 2 and out["T3 ones"] == 27 * 9
+    assert out["max difference"] < 1e-12 and out["assignment ones"] == 9 and out["assignment, active max"] < 1e-12
+    big = connection_check(10, 10, 3, np.random.default_rng(1))
+    assert big["neurons"] == 300 and big["assignment ones"] == 30
+    with pytest.raises(ValueError, match="n_frames"):
+        connection_check(3, 3, 2, np.random.default_rng(0))
+
+
+def test_gradient_forms_agree_except_the_printed_term3():
+    from projtrack.experiments.neuralnet import gradient_forms
+    scene = make_tracks(np.random.default_rng(3), 3, 4)
+    D = nn.distance_tensor(scene.positions / 256)
+    table, exact_ok, fd_ok, printed = gradient_forms(np.random.default_rng(4).random((3, 3, 4)), D)
+    assert exact_ok and fd_ok and printed > 1.0
+    assert list(table["agrees"]) == [True, True, True, True, False]
+    assert table["largest difference from eq. (9)"].iloc[0] == "< 1e-12"
+
+
+def test_bound_text_hides_rounding_noise_only():
+    from projtrack.experiments.neuralnet import bound_text
+    assert bound_text(0.0) == "< 1e-12" and bound_text(2e-9, 1e-7) == "< 1e-7"
+    assert bound_text(0.5) == "5.0e-01"
+    with pytest.raises(ValueError, match="value"):
+        bound_text(-1.0)
+
+
+# ----------------------------------------------------------------------------- the bound, read at cuts
+from projtrack.experiments.neuralnet import (bound_holds, bound_table, cut_for_rates, fixed_point_grid,  # noqa: E402
+                                             stable_down, stable_up, table1_tables)
+
+_BOUND = {0.0: [{"truth": 0.0, "wrong": 30.0}, {"truth": 1e-14, "wrong": 50.0}],
+          5.0: [{"truth": 10.0, "wrong": 40.0}, {"truth": 60.0, "wrong": 70.0}]}
+
+
+def test_bound_table_reads_the_enumeration_at_one_cut():
+    t, tol = bound_table(_BOUND, 20.0)
+    assert list(t["truth is a fixed point %"]) == [100.0, 50.0]
+    assert list(t["a wrong one is a fixed point %"]) == [0.0, 0.0]
+    assert t["median max S of the truth (px)"].tolist() == [0.0, 35.0]      # rounding noise of straight tracks is 0
+    assert t.loc[1, "bound, 95% high %"] == pytest.approx(100 * rate_ci(1, 2)[1])
+    assert tol["truth is a fixed point %"].atol == 50.0
+    with pytest.raises(ValueError, match="0.0"):
+        bound_table({5.0: _BOUND[5.0]}, 20.0)
+
+
+def test_fixed_point_grid_scales_the_cut_with_rule_and_unit():
+    rules = {"as printed": {}, "no self term": {"self_coupling": False}}
+    g, tol = fixed_point_grid(_BOUND, rules, [256, 1])
+    assert list(g.columns) == ["rule", "unit (px)", "truth fixed at 5% %", "wrong fixed at 0% %"]
+    assert g["unit (px)"].tolist() == [256, 1, 256, 1]
+    # as printed at 256 px the cut is 0.035 / 1.8 * 256 = 4.98 px; without the self term at 1 px it is 16.7 px
+    assert g["truth fixed at 5% %"].tolist() == [0.0, 0.0, 100.0, 50.0]
+    assert g["wrong fixed at 0% %"].tolist() == [0.0, 0.0, 100.0, 0.0]
+    assert tol["*"].atol == 50.0
+
+
+def test_cut_for_rates_and_bound_holds():
+    assert cut_for_rates(_BOUND, {5.0: 0.5}) == pytest.approx(10.0, rel=1e-5)
+    assert cut_for_rates(_BOUND, {5.0: 1.0}) == pytest.approx(60.0, rel=1e-5)
+    assert cut_for_rates(_BOUND, {5.0: 0.0}) == 0.0
+    grid = pd.DataFrame({"rule": ["as printed"], "unit (px)": [256], "truth fixed at 5% %": [0.0]})
+    shares = pd.DataFrame({"reading": ["as printed, ball, unit 256"] * 2, "noise %": [0.0, 5.0],
+                           "correct %": [80.0, 50.0]})
+    h = bound_holds(grid, shares, runs=100, n_sets=100)
+    assert len(h) == 1 and not h.loc[0, "holds"]          # 50 of 100 runs against a bound of 0 of 100 data sets
+    assert bound_holds(grid, shares.assign(**{"correct %": [80.0, 1.0]}), 100, 100).loc[0, "holds"]
+    with pytest.raises(ValueError, match="noise level"):
+        cut_for_rates(_BOUND, {2.5: 0.5})
+
+
+def test_stable_tolerances_do_not_move_with_one_run():
+    assert stable_up(0.0061) == 0.007 == stable_up(0.0063) and stable_up(0.3) == 0.3
+    assert stable_down(331) == stable_down(330) == 300 and stable_down(7) == 7
+    with pytest.raises(ValueError, match="x"):
+        stable_up(0.0)
+
+
+def test_table1_tables_have_six_columns_at_most():
+    res = {0.0: {"correct": np.array([True] * 10), "converged": np.ones(10, bool), "iterations": np.full(10, 20),
+                 "mode": np.array(["correct"] * 10), "optimal_correct": np.array([True])},
+           5.0: {"correct": np.zeros(10, bool), "converged": np.zeros(10, bool), "iterations": np.full(10, 50),
+                 "mode": np.array(["wandering"] * 10), "optimal_correct": np.array([True])}}
+    t1, t1_tol = table1_readings(res, [10, 9], [19, 20])
+    reps, _, reps_tol = ten_run_replications(res, [10, 9])
+    views = table1_tables(t1, reps, t1_tol, reps_tol)
+    assert set(views) == {"table1", "outcomes", "intervals"}
+    for table, tol in views.values():
+        assert len(table.columns) <= 6 and set(tol) <= set(table.columns)
+    assert views["table1"][0]["paper k/10 (it.)"].tolist() == ["10 (19)", "9 (20)"]
+    assert views["outcomes"][0]["wandering %"].tolist() == [0.0, 100.0]
+    with pytest.raises(ValueError, match="noise levels"):
+        table1_tables(t1, reps.iloc[:1], t1_tol, reps_tol)

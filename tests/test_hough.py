@@ -101,7 +101,7 @@ def test_collinear_points_give_one_peak_at_their_line(k, u, j, v, n):
     rho, theta = 2 * k + u, (j + v) % 180
     pts = line_points(rho, theta, np.linspace(-60, 60, n))
     H, rhos, thetas = hough_transform(pts, SHAPE)
-    peaks = find_peaks(H, rhos, thetas)
+    peaks = find_peaks(H, rhos, thetas, method="ratio")
     assert len(peaks) == 1
     assert same_line(peaks[0], (rho, theta), drho=2.0, dtheta=1.0)
 
@@ -111,8 +111,8 @@ def test_line_split_between_rho_bins_defeats_the_ratio_rule():
     two rho bins has at most half its votes in a cell, so its ratio stays near 2.5 < 3."""
     pts = line_points(1.0, 0.5, np.linspace(-60, 60, 12))
     H, rhos, thetas = hough_transform(pts, SHAPE)
-    assert find_peaks(H, rhos, thetas) == []
-    assert len(find_peaks(H, rhos, thetas, ratio=2.4)) == 1
+    assert find_peaks(H, rhos, thetas, method="ratio") == []
+    assert len(find_peaks(H, rhos, thetas, method="ratio", ratio=2.4)) == 1
 
 
 @settings(max_examples=25, deadline=None)
@@ -182,8 +182,8 @@ def test_peak_floor_suppresses_sparse_cells():
     rhos, thetas = hough_axes((64, 64))
     H = np.zeros((rhos.size, thetas.size))
     H[10, 20] = 2  # ratio 25 but only two votes: no evidence of collinearity
-    assert find_peaks(H, rhos, thetas) == []
-    assert len(find_peaks(H, rhos, thetas, min_votes=1)) == 1
+    assert find_peaks(H, rhos, thetas, method="ratio") == []
+    assert len(find_peaks(H, rhos, thetas, method="ratio", min_votes=1)) == 1
 
 
 def test_bridge_joins_split_peak_and_requires_one_strong_cell():
@@ -199,7 +199,7 @@ def test_bridge_joins_split_peak_and_requires_one_strong_cell():
 def test_two_lines_two_peaks():
     pts = np.vstack([line_points(-40, 30, np.linspace(-70, 70, 25)), line_points(50, 120, np.linspace(-70, 70, 25))])
     H, rhos, thetas = hough_transform(pts, SHAPE)
-    peaks = find_peaks(H, rhos, thetas)
+    peaks = find_peaks(H, rhos, thetas, method="ratio")
     assert len(peaks) == 2
     assert any(same_line(p, (-40, 30), 2, 1.5) for p in peaks)
     assert any(same_line(p, (50, 120), 2, 1.5) for p in peaks)
@@ -208,7 +208,7 @@ def test_two_lines_two_peaks():
 def test_no_duplicate_peak_across_theta_wrap():
     pts = line_points(20, 0.3, np.linspace(-80, 80, 30))
     H, rhos, thetas = hough_transform(pts, SHAPE)
-    assert len(find_peaks(H, rhos, thetas)) == 1
+    assert len(find_peaks(H, rhos, thetas, method="ratio")) == 1
 
 
 # ---------------------------------------------------------------------------------
@@ -257,7 +257,7 @@ def test_estimate_track_on_a_clean_constant_velocity_track():
     d = np.array([np.cos(0.9), np.sin(0.9)])
     pts = np.array([60, 40]) + np.outer(np.arange(n) * speed * T, d)
     H, rhos, thetas = hough_transform(pts, SHAPE)
-    rho, th = find_peaks(H, rhos, thetas, min_votes=6)[0]
+    rho, th = find_peaks(H, rhos, thetas, method="ratio", min_votes=6)[0]
     est = estimate_track(pts, SHAPE, rho, th, frame_time=T, n_frames=n, jitter_sigma=0.0)
     assert est.confirmed
     assert np.linalg.norm(est.position - pts[-1]) < 3.0
@@ -421,7 +421,7 @@ def test_bad_peak_inputs():
     with pytest.raises(ValueError, match="finite"):
         find_peaks(np.full((rhos.size, thetas.size), np.nan), rhos, thetas)
     with pytest.raises(ValueError, match="bridge"):
-        find_peaks(np.zeros((rhos.size, thetas.size)), rhos, thetas, ratio=1.0, bridge=2.0)
+        find_peaks(np.zeros((rhos.size, thetas.size)), rhos, thetas, method="ratio", ratio=1.0, bridge=2.0)
     with pytest.raises(ValueError, match="min_votes"):
         find_peaks(np.zeros((rhos.size, thetas.size)), rhos, thetas, min_votes=-1)
     with pytest.raises(ValueError, match="odd"):

@@ -136,3 +136,56 @@ def test_noise_extent_limits_the_noise_to_the_centre():
         letters.noisy(img, 1.0, rng, extent=33)
     with pytest.raises(ValueError, match="extent"):
         letters.noisy(img, 1.0, rng, extent=0)
+
+
+def test_fonts_ship_with_matplotlib_and_render():
+    assert set(letters.FONTS) == {"STIX", "DejaVu Serif", "Computer Modern"}
+    for font in letters.FONTS:
+        assert letters.font_path(font).is_file()
+        c = letters.render_letter("C", font=font)
+        assert 20 < c.sum() < 110
+    with pytest.raises(ValueError, match="font"):
+        letters.render_letter("C", font="Times New Roman")
+
+
+def test_coverage_map_matches_render_and_shifts_exactly():
+    cover = letters.coverage_map("C")
+    assert np.array_equal(letters.render_letter("C"), (cover >= letters.MIN_COVERAGE - 1e-12).astype(float))
+    assert np.all((cover >= 0) & (cover <= 1)) and np.allclose(cover * 64, np.round(cover * 64))
+    # a whole-pixel shift moves the image by one pixel (right and up)
+    shifted = letters.coverage_map("C", offset=(1.0, 1.0))
+    assert np.array_equal(shifted, np.roll(cover, (-1, 1), axis=(0, 1)))
+    # a sub-pixel shift keeps the covered area (up to sampling)
+    half = letters.coverage_map("C", offset=(0.5, 0.25))
+    assert abs(half.sum() - cover.sum()) < 0.5
+    with pytest.raises(ValueError, match="offset"):
+        letters.coverage_map("C", offset=(0.5,))
+    with pytest.raises(ValueError, match="offset"):
+        letters.coverage_map("C", offset=(2.0, 0.0))
+
+
+def test_coverage_for_count():
+    cover = np.array([[0.9, 0.5], [0.5, 0.1]])
+    assert letters.coverage_for_count(cover, 1) == 0.9
+    assert np.isnan(letters.coverage_for_count(cover, 2))  # a tie at the boundary: no threshold gives 2
+    assert letters.coverage_for_count(cover, 3) == 0.5
+    assert np.isnan(letters.coverage_for_count(cover, 5))
+    t = letters.coverage_for_count(letters.coverage_map("C"), 43)
+    assert letters.render_letter("C", min_coverage=t).sum() == 43
+
+
+def test_glyph_ensemble_gives_the_printed_c_and_matches_direct_rendering():
+    ens = letters.glyph_ensemble(fonts=("STIX", "Computer Modern"), cap_heights=(10.5, 11.0),
+                                 offsets=(0.0, 0.25, 0.5))
+    assert ens and all(set(e) == {"font", "cap_height", "dx", "dy", "min_coverage", "n_in_40_75", "max", "fits"}
+                       for e in ens)
+    for e in ens[:: max(1, len(ens) // 5)]:
+        a = letters.alphabet(cap_height=e["cap_height"], min_coverage=e["min_coverage"], font=e["font"],
+                             offset=(e["dx"], e["dy"]))
+        counts = letters.pixel_counts(a)
+        assert counts[letters.LETTERS.index("C")] == 43
+        assert counts.max() == e["max"] and np.sum((counts >= 40) & (counts <= 75)) == e["n_in_40_75"]
+    with pytest.raises(ValueError, match="multiples"):
+        letters.glyph_ensemble(offsets=(0.1,))
+    with pytest.raises(ValueError, match="empty"):
+        letters.glyph_ensemble(fonts=())

@@ -24,9 +24,17 @@ everything, :mod:`projtrack._validation` (the shared argument checks),
 (printing numbers that do not depend on the last bits).
 
 Topic packages are imported on demand (``import projtrack.jpda``) so that each is
-importable on its own.
+importable on its own. The algorithm packages need only numpy and scipy; a few functions
+need an optional dependency and say which extra installs it when it is missing
+(``pip install "projtrack[sdp]"`` for cvxpy, ``[kalman]`` for filterpy, ``[learn]`` for
+scikit-learn, ``[fast]`` for the numba kernels).
 """
 
-__version__ = "0.1.0"
+from importlib.metadata import PackageNotFoundError, version
+
+try:
+    __version__ = version("projtrack")
+except PackageNotFoundError:  # a source tree that was never installed
+    __version__ = "0+unknown"
 
 __all__ = ["__version__"]

@@ -35,6 +35,9 @@ __all__ = [
     "as_shape2",
     "as_array",
     "as_square",
+    "as_covariance",
+    "as_covariances",
+    "optional_import",
 ]
 
 
@@ -251,3 +254,62 @@ def as_square(x: object, name: str, n: int | None = None, *, finite: bool = True
         want = f"{n} x {n}" if n is not None else "square"
         raise ValueError(f"{name} must be a {want} matrix, got shape {a.shape}")
     return a
+
+
+def _psd_tolerance(a: np.ndarray) -> float:
+    return 1e-10 * max(1.0, float(np.max(np.abs(a), initial=0.0)))
+
+
+def as_covariance(x: object, name: str, n: int | None = None, *, definite: bool = False) -> np.ndarray:
+    """A covariance matrix: square (``n x n`` when given), finite, symmetric and PSD.
+
+    Symmetry is checked to a relative tolerance of 1e-9 and positive semidefiniteness
+    (positive definiteness with ``definite=True``) to 1e-10 of the largest entry. The
+    matrix is returned as a float array with its values unchanged (not symmetrized).
+    """
+    a = as_square(x, name, n)
+    if a.shape[0] == 0:
+        raise ValueError(f"{name} must be a non-empty square matrix, got shape {a.shape}")
+    scale = max(1.0, float(np.max(np.abs(a))))
+    asym = float(np.max(np.abs(a - a.T)))
+    if asym > 1e-9 * scale:
+        raise ValueError(f"{name} must be symmetric (a covariance), max |{name} - {name}^T| = {asym:.3g}")
+    lam = float(np.linalg.eigvalsh(0.5 * (a + a.T))[0])
+    tol = _psd_tolerance(a)
+    if definite and lam <= tol:
+        raise ValueError(f"{name} must be positive definite (a covariance), smallest eigenvalue {lam:.3g}")
+    if lam < -tol:
+        raise ValueError(f"{name} must be positive semidefinite (a covariance), smallest eigenvalue {lam:.3g}")
+    return a
+
+
+def as_covariances(x: object, name: str, k: int, n: int, *, definite: bool = False) -> np.ndarray:
+    """One ``n x n`` covariance for all ``k`` items, or one per item: returns shape ``(k, n, n)``.
+
+    Each matrix is checked by :func:`as_covariance`; the message names the item
+    (``P0[2] must be positive semidefinite ...``).
+    """
+    a = as_array(x, name, ndim=(2, 3))
+    if a.ndim == 2:
+        c = as_covariance(a, name, n, definite=definite)
+        return np.broadcast_to(c, (k, n, n)).copy()
+    if a.shape != (k, n, n):
+        raise ValueError(f"{name} must be one {n} x {n} matrix or {k} of them (shape ({k}, {n}, {n})), "
+                         f"got shape {a.shape}")
+    return np.array([as_covariance(c, f"{name}[{i}]", n, definite=definite) for i, c in enumerate(a)])
+
+
+def optional_import(module: str, extra: str, purpose: str) -> Any:
+    """Import an optional dependency, or raise ImportError naming the extra that installs it.
+
+    ``optional_import("cvxpy", "sdp", "method='sdp'")`` returns the module, or raises
+    ``ImportError: method='sdp' needs cvxpy: pip install "projtrack[sdp]"``.
+    """
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        top = module.split(".")[0]
+        raise ImportError(f"{purpose} needs {top}, an optional dependency of projtrack: "
+                          f'pip install "projtrack[{extra}]"') from exc

@@ -15,7 +15,8 @@ __all__ = ["space_integrating_correlator", "time_integrating_correlator"]
 
 def space_integrating_correlator(inputs: np.ndarray, references: np.ndarray, *,
                                  carriers: Sequence[int] | None = None, oversample: int = 8) -> np.ndarray:
-    """Multichannel acousto-optic space-integrating correlator with frequency multiplexing (Fig. 8).
+    """Multichannel acousto-optic space-integrating correlator with frequency multiplexing
+    (Figure 8).
 
     Numerical model of Sec. IV. ``K`` 1-D input signals (e.g. the horizontal and vertical
     projections of one test image) are written on ``K`` carriers of ``carriers[k]``
@@ -77,7 +78,8 @@ def space_integrating_correlator(inputs: np.ndarray, references: np.ndarray, *,
 
 
 def time_integrating_correlator(test: np.ndarray, references: np.ndarray, *, bias: float | None = None) -> np.ndarray:
-    """Multichannel acousto-optic time-integrating correlator (Fig. 9), with intensity bias.
+    """Multichannel acousto-optic time-integrating correlator (Figure 9), with intensity
+    bias.
 
     Numerical model of Sec. IV. Point modulator ``n`` at P1 is driven by reference
     ``references[n](t)``; the test projection ``test(t)`` travels through one AO cell at
@@ -86,6 +88,15 @@ def time_integrating_correlator(test: np.ndarray, references: np.ndarray, *, bia
     cannot be negative, so both signals ride on a ``bias`` (default: the largest absolute
     value of either); an extra reference-free row measures the bias terms, which are
     subtracted to recover the bipolar correlations.
+
+    Parameters
+    ----------
+    test : array_like, 1-D
+        The test projection, length ``L``.
+    references : array_like, shape (N, M)
+        One reference projection per row.
+    bias : float or None, keyword-only
+        Intensity bias added to both signals; default the largest absolute value of either.
 
     Returns
     -------

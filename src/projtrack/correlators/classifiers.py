@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 import scipy.fft
 
-from projtrack._validation import as_int
+from projtrack._validation import as_bool, as_int
 
 from ._checks import as_angles, as_stack
 from .projections import project_stack
@@ -39,8 +39,8 @@ class CorrelationFilterBank:
     """
 
     def __init__(self, zero_mean: bool = True, normalize: bool = True):
-        self.zero_mean = zero_mean
-        self.normalize = normalize
+        self.zero_mean = as_bool(zero_mean, "zero_mean")
+        self.normalize = as_bool(normalize, "normalize")
 
     def _prepare(self, X: np.ndarray) -> np.ndarray:
         X = X.copy()
@@ -110,7 +110,7 @@ class CorrelationFilterBank:
 
 
 class ProjectionCorrelationClassifier(CorrelationFilterBank):
-    """Bank of 1-D projection-correlation filters, one set per class (Sec. III.C).
+    """Bank of 1-D projection-correlation filters, one set per class (Section III.C).
 
     Each class keeps the projections of its (zero-mean, unit-energy) reference at the
     given angles. An input is projected at the same angles, correlated (full, bipolar)
@@ -136,14 +136,37 @@ class ProjectionCorrelationClassifier(CorrelationFilterBank):
     Attributes
     ----------
     classes_ : numpy.ndarray
+        The class labels, sorted.
     filters_ : numpy.ndarray, shape (n_classes, H, W)
+        The reference image of each class (the mean of its training images, after the
+        zero-mean and energy normalization).
+
+    Examples
+    --------
+    Three 12 x 12 letters as references, then shifted noisy copies to classify:
+
+    >>> import numpy as np
+    >>> from projtrack.correlators import ProjectionCorrelationClassifier
+    >>> L = np.zeros((12, 12)); L[2:10, 3] = 1; L[9, 3:9] = 1
+    >>> T = np.zeros((12, 12)); T[2, 2:10] = 1; T[2:10, 6] = 1
+    >>> O = np.zeros((12, 12))
+    >>> O[2:10, 2] = O[2:10, 9] = O[2, 2:10] = O[9, 2:10] = 1
+    >>> clf = ProjectionCorrelationClassifier(angles=(0, 90))
+    >>> clf = clf.fit(np.stack([L, T, O]), ["L", "T", "O"])
+    >>> rng = np.random.default_rng(0)
+    >>> X = np.stack([np.roll(a, (1, -1), axis=(0, 1)) + rng.normal(0, 0.2, a.shape)
+    ...               for a in (L, T, O)])
+    >>> clf.predict(X)
+    array(['L', 'T', 'O'], dtype='<U1')
+    >>> np.round(clf.decision_function(X[:1]), 2)  # classes_ L, O, T
+    array([[1.8 , 1.4 , 1.58]])
     """
 
     def __init__(self, angles: Sequence[float] = (0.0, 90.0), zero_mean: bool = True, normalize: bool = True,
                  normalize_projections: bool = True):
         super().__init__(zero_mean, normalize)
         self.angles = as_angles(angles)
-        self.normalize_projections = normalize_projections
+        self.normalize_projections = as_bool(normalize_projections, "normalize_projections")
 
     def _unit(self, P: np.ndarray) -> np.ndarray:
         if not self.normalize_projections:

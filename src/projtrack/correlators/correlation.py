@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.signal
 
+from projtrack._validation import as_bool
+
 from ._checks import as_angle, as_image, as_signal
 from .projections import _axis, is_lattice_angle, project
 
@@ -32,6 +34,15 @@ def correlate1d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
     ``c[m] = sum_n f[n] g[n - m + len(g) - 1]``, length ``len(f) + len(g) - 1``; the
     zero-lag term is at ``m = len(g) - 1`` (the convention of :func:`scipy.signal.correlate`).
+
+    Parameters
+    ----------
+    f, g : array_like, 1-D
+        The signal and the reference, finite and non-empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(f) + len(g) - 1,)
     """
     f = as_signal(f, "f")
     g = as_signal(g, "g")
@@ -39,11 +50,23 @@ def correlate1d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 
 def correlate2d(f: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """Full bipolar 2-D cross-correlation of an input ``f`` with a reference ``g``, by FFT.
+    """Full bipolar 2-D cross-correlation of an input :math:`f` with a reference :math:`g`,
+    by FFT.
 
     Returns the signed (not intensity-detected) plane of shape
     ``(Hf + Hg - 1, Wf + Wg - 1)``, ``c[p, q] = sum f[i, j] g[i - p + Hg - 1, j - q + Wg - 1]``.
     The paper stresses (Sec. II.B) that Eq. (3) needs this bipolar correlation.
+
+    Parameters
+    ----------
+    f : array_like, 2-D
+        The input image.
+    g : array_like, 2-D
+        The reference image.
+
+    Returns
+    -------
+    numpy.ndarray, shape (Hf + Hg - 1, Wf + Wg - 1)
     """
     f = as_image(f, "f")
     g = as_image(g, "g")
@@ -55,7 +78,8 @@ def _plane_shape(f: np.ndarray, g: np.ndarray) -> tuple[int, int]:
 
 
 def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, return_r: bool = False):
-    """1-D correlation of the projections of ``f`` and ``g`` at angle theta, Eq. (3).
+    r"""1-D correlation of the projections of :math:`f` and :math:`g` at angle
+    :math:`\theta`, Equation (3).
 
     Equal to ``project(correlate2d(f, g), theta_deg)`` (the *integrated 2-D correlation*),
     on the same bins: exactly (to floating-point accuracy) for multiples of 45 degrees,
@@ -70,6 +94,7 @@ def projection_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float, *, re
     return_r : bool, default False
         Also return the r of each output sample (0 where the centres of f and g align).
     """
+    return_r = as_bool(return_r, "return_r")
     f = as_image(f, "f")
     g = as_image(g, "g")
     theta = as_angle(theta_deg)
@@ -126,5 +151,21 @@ def circular_correlate(f: np.ndarray, g: np.ndarray) -> np.ndarray:
 
 
 def integrated_correlation(f: np.ndarray, g: np.ndarray, theta_deg: float) -> np.ndarray:
-    """Projection at angle theta of the full 2-D bipolar correlation (Sec. II.B)."""
+    r"""Projection at angle :math:`\theta` of the full 2-D bipolar correlation (Section
+    II.B).
+
+    Parameters
+    ----------
+    f : array_like, 2-D
+        The input image.
+    g : array_like, 2-D
+        The reference image.
+    theta_deg : float
+        Projection angle in degrees.
+
+    Returns
+    -------
+    numpy.ndarray
+        The projection of :func:`correlate2d`'s plane, on the bins of :func:`project`.
+    """
     return project(correlate2d(f, g), theta_deg)

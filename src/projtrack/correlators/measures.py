@@ -17,7 +17,7 @@ def _window(arr: np.ndarray, centre: tuple[int, ...], size: int) -> tuple[slice,
 
 
 def psr(plane: np.ndarray, window: int = 11) -> float:
-    """Peak-to-sidelobe ratio, Eq. (5b), with the window of Sec. III.A.
+    """Peak-to-sidelobe ratio, Equation (5b), with the window of Section III.A.
 
     The peak is the largest (signed) value; the sidelobe level is the mean of the
     ``window x window`` region (``window`` samples for a 1-D plane) centred on the peak,
@@ -52,7 +52,7 @@ def psr(plane: np.ndarray, window: int = 11) -> float:
 
 
 def snr(plane: np.ndarray, exclude: int = 32) -> float:
-    """Correlation-plane SNR, Eq. (5a), with the region of Sec. III.A.
+    """Correlation-plane SNR, Equation (5a), with the region of Section III.A.
 
     Peak value divided by the standard deviation of the plane outside the
     ``exclude x exclude`` region (``exclude`` samples in 1-D) centred on the peak.
@@ -114,7 +114,24 @@ def snr_db(ratio: float, *, convention: str = "amplitude") -> float:
 
 
 def peak_stats(plane: np.ndarray, *, window: int = 11, exclude: int | None = 32) -> dict[str, object]:
-    """Peak value and location, PSR (Eq. 5b) and, if ``exclude`` is given, SNR (Eq. 5a)."""
+    """Peak value and location, PSR (Equation 5b) and, if ``exclude`` is given, SNR
+    (Equation 5a).
+
+    Parameters
+    ----------
+    plane : array_like, 2-D
+        A correlation plane.
+    window : int, keyword-only, default 11
+        Window of the PSR, as :func:`psr`.
+    exclude : int or None, keyword-only, default 32
+        Region excluded around the peak for the SNR, as :func:`snr`; ``None`` skips the SNR.
+
+    Returns
+    -------
+    dict
+        ``peak`` (float), ``location`` (row, column), ``psr`` and, unless ``exclude`` is
+        None, ``snr``.
+    """
     arr = as_plane(plane)
     loc = np.unravel_index(int(np.argmax(arr)), arr.shape)
     out: dict[str, object] = {"peak": float(arr[loc]), "location": tuple(int(v) for v in loc),

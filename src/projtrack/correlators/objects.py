@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from scipy.ndimage import maximum_filter
 
-from projtrack._validation import as_real, as_shape2
+from projtrack._validation import as_bool, as_real, as_shape2
 
 from ._checks import as_angles, as_image, as_signal
 from .correlation import _plane_shape, projection_correlation
@@ -25,6 +25,21 @@ def backprojection_min(projections: Sequence[np.ndarray], r_axes: Sequence[np.nd
     only if every projection correlation is high on the line through it; with the
     horizontal and vertical projections alone, two objects that do not share a row or a
     column leave two "ghost" candidates, which a third projection removes (Sec. V).
+
+    Parameters
+    ----------
+    projections : sequence of 1-D arrays
+        One projection correlation per angle.
+    r_axes : sequence of 1-D arrays
+        Their ``r`` axes (pixels, increasing).
+    angles : sequence of float
+        The angles, degrees.
+    shape : (int, int)
+        Shape of the plane.
+
+    Returns
+    -------
+    numpy.ndarray, shape ``shape``
     """
     angles = as_angles(angles)
     if not (len(projections) == len(r_axes) == len(angles)):
@@ -47,7 +62,8 @@ def backprojection_min(projections: Sequence[np.ndarray], r_axes: Sequence[np.nd
 
 def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[float],
                    threshold: float = 0.8, *, zero_mean_template: bool = True) -> dict[str, object]:
-    """Locate copies of ``template`` in ``scene`` from a few projection correlations (Fig. 10).
+    """Locate copies of ``template`` in ``scene`` from a few projection correlations
+    (Figure 10).
 
     Each projection correlation of the scene with the template is divided by the
     template's own projection-autocorrelation peak at that angle (so one object gives 1),
@@ -56,6 +72,19 @@ def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[flo
     minimum of :func:`backprojection_min`); the candidates that are local maxima (5 x 5)
     of the mean backprojection are reported.
 
+    Parameters
+    ----------
+    scene : array_like, 2-D
+        The image to search.
+    template : array_like, 2-D
+        The object to find (smaller than the scene).
+    angles : sequence of float
+        Projection angles in degrees (two or three are the paper's choice).
+    threshold : float, default 0.8
+        Fraction of a single object's correlation peak every backprojection must reach.
+    zero_mean_template : bool, keyword-only, default True
+        Remove the template's mean first (Sec. III.B).
+
     Returns
     -------
     dict
@@ -63,6 +92,7 @@ def locate_objects(scene: np.ndarray, template: np.ndarray, angles: Sequence[flo
         ``"map"``: the backprojected minimum on the correlation-plane grid;
         ``"projections"`` and ``"r"``: the normalized projection correlations and their axes.
     """
+    zero_mean_template = as_bool(zero_mean_template, "zero_mean_template")
     scene = as_image(scene, "scene")
     template = as_image(template, "template")
     angles = as_angles(angles)

@@ -10,7 +10,17 @@ __all__ = ["zero_mean", "normalize_energy"]
 
 
 def zero_mean(image: np.ndarray) -> np.ndarray:
-    """Subtract the mean of an image (block the dc spatial frequency), Sec. III.B.
+    """Subtract the mean of an image (block the dc spatial frequency), Section III.B.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        A finite real image.
+
+    Returns
+    -------
+    numpy.ndarray
+        The image minus its mean.
 
     Raises
     ------
@@ -22,7 +32,17 @@ def zero_mean(image: np.ndarray) -> np.ndarray:
 
 
 def normalize_energy(image: np.ndarray) -> np.ndarray:
-    """Scale an image to unit energy (sum of squares 1), Sec. III.C.
+    """Scale an image to unit energy (sum of squares 1), Section III.C.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        A finite real image, not all zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        The image divided by the square root of its energy.
 
     Raises
     ------

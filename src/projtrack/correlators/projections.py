@@ -29,7 +29,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse
 
-from projtrack._validation import as_shape2
+from projtrack._validation import as_bool, as_shape2
 
 from ._checks import as_angle, as_freqs, as_image, as_stack
 
@@ -40,7 +40,17 @@ _SNAP = 1e-9  # interpolation weights closer than this to 0 or 1 are snapped
 
 
 def is_lattice_angle(theta_deg: float) -> bool:
-    """True if ``theta_deg`` is a multiple of 45 degrees (exact pixel binning)."""
+    """True if ``theta_deg`` is a multiple of 45 degrees (exact pixel binning).
+
+    Parameters
+    ----------
+    theta_deg : float
+        An angle in degrees.
+
+    Returns
+    -------
+    bool
+    """
     t = as_angle(theta_deg)
     return abs(t / 45.0 - round(t / 45.0)) < 1e-9
 
@@ -107,7 +117,7 @@ def _general_range(shape: tuple[int, int], theta: float) -> tuple[int, int]:
 
 
 def projection_axis(shape: tuple[int, int], theta_deg: float) -> np.ndarray:
-    """The ``r`` coordinate (in pixels, 0 at the array centre) of each projection bin.
+    """The :math:`r` coordinate (in pixels, 0 at the array centre) of each projection bin.
 
     Parameters
     ----------
@@ -133,7 +143,7 @@ def _axis(shape: tuple[int, int], theta: float) -> np.ndarray:
 
 
 def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
-    """Projection ``p_theta(r)`` of an image, Eq. (1) of Casasent & Song.
+    r"""Projection :math:`p_\theta(r)` of an image, Equation (1) of Casasent & Song.
 
     ``p_theta(r) = sum over pixels of f(x, y) [pixel on the line x cos(theta) + y sin(theta) = r]``
     with exact whole-pixel binning for multiples of 45 degrees and linear interpolation
@@ -156,6 +166,7 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
     r : numpy.ndarray, optional
         Bin positions in pixels, 0 at the centre of the array.
     """
+    return_r = as_bool(return_r, "return_r")
     arr = as_image(image, "image")
     theta = as_angle(theta_deg)
     if is_lattice_angle(theta) and int(round(theta / 45.0)) % 2 == 0:
@@ -171,17 +182,44 @@ def project(image: np.ndarray, theta_deg: float, *, return_r: bool = False):
 
 
 def project_stack(images: np.ndarray, theta_deg: float) -> np.ndarray:
-    """:func:`project` applied to every image of a stack ``(n, H, W)``; returns ``(n, n_bins)``."""
+    """:func:`project` applied to every image of a stack ``(n, H, W)``; returns ``(n,
+    n_bins)``.
+
+    Parameters
+    ----------
+    images : array_like, shape (n, H, W)
+        A stack of images of one size.
+    theta_deg : float
+        Projection angle in degrees.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n_bins)
+    """
     arr = as_stack(images, "images")
     mat, _ = _operator(arr.shape[1:], as_angle(theta_deg))
     return np.asarray((mat @ arr.reshape(arr.shape[0], -1).T).T)
 
 
 def projection_spectrum(image: np.ndarray, theta_deg: float, rho: np.ndarray) -> np.ndarray:
-    """1-D Fourier transform ``P_theta(rho)`` of the projection, the left side of Eq. (2).
+    r"""1-D Fourier transform :math:`P_\theta(\rho)` of the projection, the left side of
+    Equation (2).
 
     ``P(rho) = sum_k p(r_k) exp(-2 pi i rho r_k)`` at the frequencies ``rho`` (cycles per
     pixel), with ``r_k`` from :func:`project`.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        The image.
+    theta_deg : float
+        Projection angle in degrees.
+    rho : array_like, 1-D
+        Spatial frequencies, cycles per pixel.
+
+    Returns
+    -------
+    numpy.ndarray of complex, shape (len(rho),)
     """
     p, r = project(image, theta_deg, return_r=True)
     rho = as_freqs(rho)
@@ -189,11 +227,24 @@ def projection_spectrum(image: np.ndarray, theta_deg: float, rho: np.ndarray) ->
 
 
 def fourier_slice(image: np.ndarray, theta_deg: float, rho: np.ndarray) -> np.ndarray:
-    """The 2-D Fourier transform of the image along the line at angle theta, Eq. (2).
+    """The 2-D Fourier transform of the image along the line at angle theta, Equation (2).
 
     ``F(rho cos(theta), rho sin(theta)) = sum f(x, y) exp(-2 pi i rho (x cos(theta) + y sin(theta)))``
     with the centred coordinates of the module conventions. By the central slice theorem
     it equals :func:`projection_spectrum` exactly for multiples of 45 degrees.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        The image.
+    theta_deg : float
+        Angle of the line through the origin of the frequency plane, degrees.
+    rho : array_like, 1-D
+        Spatial frequencies along the line, cycles per pixel.
+
+    Returns
+    -------
+    numpy.ndarray of complex, shape (len(rho),)
     """
     arr = as_image(image, "image")
     t = np.deg2rad(as_angle(theta_deg))

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_array, as_rng
+from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.dma.hmm import forward_backward, forward_filter, log_transitions, viterbi
 from projtrack.dma.manifold import learn_manifold
 from projtrack.dma.motion import estimate_start, estimate_transitions, neighbor_graph
@@ -65,13 +65,15 @@ class DMA:
         neighbor_radius: float | None = None,
         rng: np.random.Generator | None = None,
     ):
-        self.n_regions = n_regions
-        self.n_prototypes = n_prototypes
-        self.dim = dim
-        self.max_mse = max_mse
-        self.alpha = alpha
-        self.neighbor_radius = neighbor_radius
-        self.rng = rng
+        # checked at the door, so that a wrong argument is named before any work is done
+        self.n_regions = as_int(n_regions, "n_regions", minimum=1)
+        self.n_prototypes = as_int(n_prototypes, "n_prototypes", minimum=1)
+        self.dim = None if dim is None else as_int(dim, "dim", minimum=1)
+        self.max_mse = None if max_mse is None else as_real(max_mse, "max_mse", 0.0, low_open=True)
+        self.alpha = as_real(alpha, "alpha", 0.0, low_open=True)
+        self.neighbor_radius = (None if neighbor_radius is None
+                                else as_real(neighbor_radius, "neighbor_radius", 0.0, low_open=True))
+        self.rng = None if rng is None else as_rng(rng)
 
     def fit(self, trajectories: Sequence[object]) -> "DMA":
         """Learn the manifold (Sec. 3.1) and the motion model (Sec. 3.2).

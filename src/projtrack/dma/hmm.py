@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.special import logsumexp
 
-from projtrack._validation import as_array
+from projtrack._validation import as_array, as_bool
 
 __all__ = [
     "viterbi",
@@ -111,6 +111,7 @@ def check_row_stochastic(matrix: object, *, log: bool = False, name: str = "matr
     atol : float
         Tolerance on each row sum.
     """
+    log = as_bool(log, "log")
     if sp.issparse(matrix):
         csr = sp.csr_array(matrix, dtype=float)
         vals = np.exp(csr.data) if log else csr.data
@@ -185,11 +186,11 @@ def _segment_logsumexp(vals: np.ndarray, indptr: np.ndarray, nonempty: np.ndarra
 
 
 def viterbi(log_start: object, log_trans: object, log_emission: object) -> np.ndarray:
-    """Most likely state path of a hidden Markov model (Viterbi, in log space).
+    r"""Most likely state path of a hidden Markov model (Viterbi, in log space).
 
-    Sec. 3.3 of Marques et al.: the discrete state sequence ``u`` maximising
-    ``P(u | y)`` given the motion model (eq. (13)) and the sensor model
-    ``p(y(t) | u(t))``.
+    Sec. 3.3 of Marques et al.: the discrete state sequence :math:`u` maximising
+    :math:`P(u \mid y)` given the motion model (eq. (13)) and the sensor model
+    :math:`p(y(t) \mid u(t))`.
 
     Parameters
     ----------
@@ -217,9 +218,25 @@ def viterbi(log_start: object, log_trans: object, log_emission: object) -> np.nd
 
     Notes
     -----
-    The dense recursion costs ``O(N S^2)``, the sparse one ``O(N nnz)``. The scores of
-    every step are kept (``N x S`` floats) and back-pointers are recovered during the
-    traceback, one column at a time.
+    The dense recursion costs :math:`O(N S^2)`, the sparse one :math:`O(N\,\mathrm{nnz})`.
+    The scores of every step are kept (:math:`N \times S` floats) and back-pointers are
+    recovered during the traceback, one column at a time.
+
+    Examples
+    --------
+    Three states on a line, each step staying or moving one state to the right; the
+    noisy readings suggest 0, 0, 2, 2 but the path may not jump two states at once:
+
+    >>> import numpy as np
+    >>> from projtrack.dma import viterbi
+    >>> with np.errstate(divide="ignore"):
+    ...     log_trans = np.log([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.0, 0.0, 1.0]])
+    ...     log_start = np.log([1.0, 0.0, 0.0])
+    >>> states = np.arange(3.0)
+    >>> y = np.array([0.1, 0.2, 1.9, 2.1])
+    >>> log_emission = -0.5 * (y[:, None] - states[None, :]) ** 2 / 0.5 ** 2
+    >>> viterbi(log_start, log_trans, log_emission)
+    array([0, 1, 2, 2])
     """
     ch = _validate(log_start, log_trans, log_emission)
     le = ch.log_emission
@@ -279,11 +296,20 @@ def _forward(ch: _Chain) -> tuple[np.ndarray, float]:
 
 
 def forward_filter(log_start: object, log_trans: object, log_emission: object) -> np.ndarray:
-    """Filtered (on-line) log posteriors ``log P(u(t) | y(1..t))``.
+    r"""Filtered (on-line) log posteriors :math:`\log P(u(t) \mid y(1..t))`.
 
     The forward pass of the forward-backward algorithm (Sec. 3.3: "used when an on-line
     estimate of the state variable is required"), in log space. Arguments as in
     :func:`viterbi`.
+
+    Parameters
+    ----------
+    log_start : array_like, shape (S,)
+        Log-probabilities of the initial state.
+    log_trans : array_like or scipy.sparse matrix, shape (S, S)
+        Log transition probabilities (see :func:`viterbi` for the sparse convention).
+    log_emission : array_like, shape (N, S)
+        :math:`\log p(y(t) \mid \text{state})` for every time and state.
 
     Returns
     -------
@@ -296,10 +322,19 @@ def forward_filter(log_start: object, log_trans: object, log_emission: object) -
 
 
 def forward_backward(log_start: object, log_trans: object, log_emission: object) -> tuple[np.ndarray, float]:
-    """Smoothed log posteriors ``log P(u(t) | y(1..N))`` and the log-likelihood.
+    r"""Smoothed log posteriors :math:`\log P(u(t) \mid y(1..N))` and the log-likelihood.
 
     The forward-backward algorithm in log space (no underflow on long sequences).
     Arguments as in :func:`viterbi`.
+
+    Parameters
+    ----------
+    log_start : array_like, shape (S,)
+        Log-probabilities of the initial state.
+    log_trans : array_like or scipy.sparse matrix, shape (S, S)
+        Log transition probabilities (see :func:`viterbi` for the sparse convention).
+    log_emission : array_like, shape (N, S)
+        :math:`\log p(y(t) \mid \text{state})` for every time and state.
 
     Returns
     -------
@@ -334,7 +369,7 @@ def forward_backward(log_start: object, log_trans: object, log_emission: object)
 
 
 def path_log_probability(path: object, log_start: object, log_trans: object, log_emission: object) -> float:
-    """Joint log-probability ``log P(u, y)`` of a state path (the Viterbi objective).
+    r"""Joint log-probability :math:`\log P(u, y)` of a state path (the Viterbi objective).
 
     Parameters
     ----------

@@ -16,14 +16,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack._validation import as_array, as_int, as_real, as_rng, optional_import
 
 __all__ = ["DiscreteManifold", "learn_manifold", "select_n_regions"]
 
 
 @dataclass
 class DiscreteManifold:
-    """A manifold split into regions, each with a local frame and prototypes (Sec. 3.1).
+    """A manifold split into regions, each with a local frame and prototypes (Section 3.1).
 
     Attributes
     ----------
@@ -144,7 +144,7 @@ class DiscreteManifold:
 
 
 def _fit_gmm(X: np.ndarray, n_regions: int, rng: np.random.Generator, reg_covar: float):
-    from sklearn.mixture import GaussianMixture
+    GaussianMixture = optional_import("sklearn.mixture", "learn", "learning a manifold by EM").GaussianMixture
 
     seed = int(rng.integers(0, 2**31 - 1))
     gmm = GaussianMixture(
@@ -160,11 +160,22 @@ def _check_training_points(X: object) -> np.ndarray:
 
 
 def select_n_regions(X: object, candidates: Sequence[int], rng: np.random.Generator, *, reg_covar: float = 1e-6) -> tuple[int, np.ndarray]:
-    """Choose the number of regions ``M`` by the Bayesian information criterion.
+    """Choose the number of regions :math:`M` by the Bayesian information criterion.
 
     Sec. 3.1: "M is either assumed a priori known or estimated from the data by a
     suitable method, e.g., minimum description length (MDL)". BIC has the same form as
     the two-part MDL code length of a Gaussian mixture.
+
+    Parameters
+    ----------
+    X : array_like, shape (N, n)
+        Training points.
+    candidates : sequence of int
+        Numbers of regions to try (each >= 1).
+    rng : numpy.random.Generator
+        Randomness of EM.
+    reg_covar : float, keyword-only, default 1e-6
+        Added to the covariance diagonals by EM.
 
     Returns
     -------
@@ -194,7 +205,7 @@ def learn_manifold(
     max_mse: float | None = None,
     reg_covar: float = 1e-6,
 ) -> DiscreteManifold:
-    """Learn a discrete manifold model from points (Sec. 3.1 of Marques et al.).
+    """Learn a discrete manifold model from points (Section 3.1 of Marques et al.).
 
     1. EM for a Gaussian mixture with ``n_regions`` full-covariance modes (eqs. (1)-(5)).
     2. Hard regions by the smallest squared Mahalanobis distance (eq. (6)).
@@ -231,7 +242,7 @@ def learn_manifold(
     -------
     DiscreteManifold
     """
-    from sklearn.cluster import KMeans
+    KMeans = optional_import("sklearn.cluster", "learn", "learning a discrete manifold").KMeans
 
     X = _check_training_points(X)
     rng = as_rng(rng)

@@ -44,7 +44,7 @@ def estimate_transitions(
     alpha: float = 1e-3,
     neighbors: object | None = None,
 ) -> sp.csr_array:
-    """Transition matrix ``A`` (eq. (13)) by relative frequencies, sparse.
+    """Transition matrix :math:`A` (equation (13)) by relative frequencies, sparse.
 
     ``a_kl = P(u(t) = u_k | u(t-1) = u_l)`` (eqs. (10)-(12); here stored row ``l``,
     column ``k``, so rows sum to one) is the number of observed ``l -> k`` transitions
@@ -98,7 +98,22 @@ def estimate_transitions(
 
 def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> np.ndarray:
     """Initial-state probabilities: state frequencies of the training sequences plus a
-    pseudo-count ``alpha`` per state (so that every state may start a trajectory)."""
+    pseudo-count ``alpha`` per state (so that every state may start a trajectory).
+
+    Parameters
+    ----------
+    sequences : sequence of array_like of int
+        Training state sequences (prototype indices).
+    n_states : int
+        Number of states.
+    alpha : float, keyword-only, default 1
+        Pseudo-count per state (> 0).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_states,)
+        Probabilities summing to 1.
+    """
     S = as_int(n_states, "n_states", minimum=1)
     seqs = _check_sequences(sequences, S)
     alpha = as_real(alpha, "alpha", 0, low_open=True)
@@ -108,7 +123,19 @@ def estimate_start(sequences: object, n_states: int, *, alpha: float = 1.0) -> n
 
 def neighbor_graph(points: object, radius: float) -> sp.csr_array:
     """Sparse 0/1 pattern of prototype pairs closer than ``radius`` (self excluded),
-    for smoothing in :func:`estimate_transitions`."""
+    for smoothing in :func:`estimate_transitions`.
+
+    Parameters
+    ----------
+    points : array_like, shape (K, n)
+        The prototypes.
+    radius : float
+        Distance below which two prototypes are neighbours (> 0).
+
+    Returns
+    -------
+    scipy.sparse.csr_array, shape (K, K)
+    """
     from scipy.spatial import cKDTree
 
     P = as_array(points, "points", ndim=2)
@@ -128,15 +155,16 @@ def transitions_from_velocity_field(
     n_next: int = 2,
     project: object | None = None,
     exclude_self: bool = False,
+    width: float | None = None,
 ) -> sp.csr_array:
-    """Markov chain on prototypes from a known velocity field (Example 1, Fig. 6a).
+    """Markov chain on prototypes from a known velocity field (Example 1, Figure 6a).
 
     From each prototype ``u_l`` the point moves to ``p_l = u_l + dt * v(u_l)`` (then
     mapped by ``project``, e.g. back onto the sphere). The allowed transitions go to the
     ``n_next`` prototypes nearest to ``p_l`` (with ``n_next = 2``, "transitions to one
     of two consecutive states" as in Fig. 3), with probabilities proportional to
-    ``exp(-d^2 / (2 s^2))``, ``d`` the distance to ``p_l`` and ``s`` the median
-    nearest-neighbour spacing of the prototypes.
+    ``exp(-d^2 / (2 s^2))``, ``d`` the distance to ``p_l`` and ``s`` the weight width
+    (``width``; by default the median nearest-neighbour spacing of the prototypes).
 
     With ``exclude_self`` the prototype ``u_l`` itself is never a successor (no
     self-loops: the point always moves). ``n_next = 1, exclude_self = True`` gives the
@@ -157,6 +185,9 @@ def transitions_from_velocity_field(
         ``project(points) -> points`` applied to the predicted points.
     exclude_self : bool, default False
         Leave each prototype out of its own successors.
+    width : float, optional
+        Width ``s`` of the Gaussian weights (> 0); default the median nearest-neighbour
+        spacing of ``points``.
 
     Returns
     -------
@@ -181,7 +212,8 @@ def transitions_from_velocity_field(
     if project is not None:
         pred = np.asarray(project(pred), dtype=float)
     tree = cKDTree(P)
-    spacing = float(np.median(tree.query(P, k=2)[0][:, 1]))
+    spacing = float(np.median(tree.query(P, k=2)[0][:, 1])) if width is None else as_real(width, "width", 0,
+                                                                                             low_open=True)
     if exclude_self:
         d, idx = tree.query(pred, k=k + 1)
         d, idx = d.reshape(S, k + 1), idx.reshape(S, k + 1)

@@ -15,7 +15,7 @@ __all__ = ["SensorModel", "LinearGaussianSensor", "RangeCosineSensor", "ActivePi
 
 
 class SensorModel:
-    """Interface of a sensor model ``p(y | u_k)`` over a fixed set of prototypes.
+    r"""Interface of a sensor model :math:`p(y \mid u_k)` over a fixed set of prototypes.
 
     Subclasses implement :meth:`log_likelihood` (one observation -> ``(S,)`` array of
     ``log p(y | u_k)``); :meth:`log_likelihoods` stacks it over a sequence (override it
@@ -44,7 +44,8 @@ def _check_points_arg(points: object, name: str = "points", ncols: int | None = 
 
 
 class LinearGaussianSensor(SensorModel):
-    """``y = H x + v``, ``v ~ N(0, R)`` (Example 1: ``H = [1 -1 1]``).
+    r""":math:`y = H x + v`, :math:`v \sim \mathcal{N}(0, R)` (Example 1: :math:`H = [1\
+    {-1}\ 1]`).
 
     Parameters
     ----------
@@ -93,10 +94,22 @@ class LinearGaussianSensor(SensorModel):
 
 
 class RangeCosineSensor(SensorModel):
-    """Range radar ``y_t = cos(omega d_t) + w_t``, ``w_t ~ N(0, noise_var)`` (eq. (14)).
+    r"""Range radar :math:`y_t = \cos(\omega d_t) + w_t`, :math:`w_t \sim \mathcal{N}(0,
+    \sigma^2)` (equation (14)).
 
     ``d_t`` is the distance from the prototype to the receiver (Example 2:
     ``omega = 0.02`` rad/m, ``noise_var = 0.05``).
+
+    Parameters
+    ----------
+    points : array_like, shape (K, n)
+        The prototypes (states).
+    receiver : array_like, shape (n,)
+        Position of the receiver.
+    omega : float
+        Angular frequency of the range response, rad per unit of distance.
+    noise_var : float
+        Variance of the measurement noise (> 0).
     """
 
     def __init__(self, points: object, receiver: object, omega: float, noise_var: float):
@@ -125,7 +138,8 @@ class RangeCosineSensor(SensorModel):
 
 
 class ActivePixelSensor(SensorModel):
-    """Active-pixel count model ``p(y_t | u_k) ∝ c^{n_k}`` (eq. (15), Example 3).
+    r"""Active-pixel count model :math:`p(y_t \mid u_k) \propto c^{n_k}` (equation (15),
+    Example 3).
 
     ``n_k`` is the number of active pixels (``|frame - background| > threshold``) in the
     ``L x L`` box centred at prototype ``u_k`` (pixel coordinates ``(row, col)``).

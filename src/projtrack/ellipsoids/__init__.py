@@ -55,11 +55,11 @@ from .kalman import KalmanResult, kalman_estimate
 from .lsi_solver import lsi
 from .operators import (congruence_operator, ctilde, kron_operator, project, smat, stacked_operator, svec,
                         svec_basis_matrix, symmetric_basis)
-from .reconstruction import RankDeficientWarning, condition19, fit_centered_ellipse, reconstruct
+from .reconstruction import IndefiniteDataWarning, RankDeficientWarning, condition19, fit_centered_ellipse, reconstruct
 from .sdp import sdp_reconstruct
 
 __all__ = [
-    "RankDeficientWarning", "check_symmetric", "check_orthonormal",
+    "RankDeficientWarning", "IndefiniteDataWarning", "check_symmetric", "check_orthonormal",
     "svec", "smat", "symmetric_basis", "ctilde", "congruence_operator", "kron_operator",
     "svec_basis_matrix", "stacked_operator", "project",
     "axes", "support", "volume", "boundary_points", "conic_points", "is_psd", "nearest_psd",

@@ -16,7 +16,8 @@ _SYM_TOL = 1e-9
 
 
 def check_symmetric(X: object, name: str = "X", n: int | None = None) -> np.ndarray:
-    """Return ``X`` as a float array after checking it is a finite symmetric square matrix.
+    """Return :math:`X` as a float array after checking it is a finite symmetric square
+    matrix.
 
     Parameters
     ----------
@@ -45,9 +46,24 @@ def check_symmetric(X: object, name: str = "X", n: int | None = None) -> np.ndar
 
 
 def check_orthonormal(C: object, name: str = "C", n: int | None = None, tol: float = 1e-8) -> np.ndarray:
-    """Return ``C`` as a 2-D float array after checking its columns are orthonormal.
+    """Return :math:`C` as a 2-D float array after checking its columns are orthonormal.
 
     A 1-D array is taken as a single column (an ``n x 1`` projection, KVW Sec. 3).
+
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        The matrix to check.
+    name : str, default "C"
+        Name used in error messages.
+    n : int, optional
+        Required number of rows.
+    tol : float, default 1e-8
+        Largest entry allowed in ``C^T C - I``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m)
 
     Raises
     ------
@@ -92,7 +108,16 @@ def _n_from_dim(N: int) -> int:
 def _matrix_list(items: object, name: str, what: str, single: str, empty: str) -> list:
     """``items`` as a non-empty list; one 2-D array is refused (it would iterate over rows)."""
     if isinstance(items, np.ndarray) and items.ndim == 2:
-        raise TypeError(f"{name} must be a sequence of {what} matrices (wrap a single {single} in a list)")
+        if single == "C":
+            k, n = items.shape
+            raise TypeError(
+                f"{name} must be a sequence of {what} matrices, got one 2-D array of shape {items.shape}: "
+                f"for {k} projection directions in {n} dimensions pass one unit vector per view, "
+                f"e.g. list(directions) (each row becomes a view of one column); for a single "
+                f"n x m view pass [C]")
+        raise TypeError(f"{name} must be a sequence of {what} matrices, got one 2-D array of shape "
+                        f"{items.shape}: pass one matrix per view (list(...) of 1 x 1 values for "
+                        f"1-D views, [Y] for a single view)")
     try:
         out = list(items)  # type: ignore[call-overload]
     except TypeError:

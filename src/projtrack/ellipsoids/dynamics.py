@@ -24,12 +24,25 @@ def _rot_t(a: float) -> np.ndarray:
 
 
 def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarray:
-    """The planar shaping matrix ``A`` of eq. (23).
+    """The planar shaping matrix ``A`` of equation (23).
 
     ``A = R^T(psi) diag(tau, tau) diag(alpha, 1/alpha) R^T(phi)`` with ``R`` the rotation
     matrix; ``X -> A^T X A`` rotates the ellipse by ``psi``, magnifies it by ``tau``,
     stretches axis 1 by ``alpha`` and axis 2 by ``1/alpha``, then rotates by ``phi``
     (eq. 22 applied through eq. 3).
+
+    Parameters
+    ----------
+    tau : float
+        Magnification (> 0).
+    alpha : float
+        Stretch of axis 1 (axis 2 by ``1/alpha``), > 0.
+    psi, phi : float
+        Rotation angles, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 2)
     """
     # any bad value is a ValueError here, a wrong kind included
     tau, alpha, psi, phi = (only_value_errors(as_real, v, k)
@@ -40,10 +53,24 @@ def shaping_matrix(tau: float, alpha: float, psi: float, phi: float) -> np.ndarr
 
 
 def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = None) -> np.ndarray:
-    """Simulate eq. (20): ``X_{k+1} = A_k^T X_k A_k + B_k``; returns ``(n_steps + 1, n, n)``.
+    """Simulate equation (20), :math:`X_{k+1} = A_k^T X_k A_k + B_k`; returns ``(n_steps +
+    1, n, n)``.
 
-    ``As`` (and ``Bs``) are one matrix (constant) or a sequence; ``n_steps`` defaults to
-    ``len(As)``. ``Bs=None`` means no drive.
+    Parameters
+    ----------
+    X0 : array_like, shape (n, n)
+        The initial ellipsoid (symmetric).
+    As : array_like, shape (n, n) or (K, n, n)
+        One transition matrix (constant dynamics) or a sequence of them.
+    Bs : array_like, shape (n, n) or (K, n, n), optional
+        The drive, symmetric; ``None`` (default) means no drive.
+    n_steps : int, optional
+        Number of steps; default ``len(As)`` for a sequence (required for one matrix).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_steps + 1, n, n)
+        The ellipsoids from :math:`X_0` to the last step.
     """
     X = check_symmetric(X0, "X0")
     n = X.shape[0]
@@ -62,7 +89,21 @@ def simulate(X0: object, As: object, Bs: object = None, n_steps: int | None = No
 
 
 def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None) -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """The vector form (21): ``A~_k`` (matrix of ``X -> A_k^T X A_k``) and ``b_k = svec(B_k)``."""
+    r"""The vector form (21): :math:`\tilde A_k` (the matrix of :math:`X \mapsto A_k^T X
+    A_k`) and :math:`b_k = \operatorname{svec}(B_k)`.
+
+    Parameters
+    ----------
+    As : sequence of (n, n) arrays
+        Transition matrices of eq. (20).
+    Bs : sequence of (n, n) arrays, optional
+        Drive of eq. (20); None means no drive.
+
+    Returns
+    -------
+    (A_tilde, b) : (list of numpy.ndarray, list of numpy.ndarray)
+        The ``n(n+1)/2`` square matrices and the drive vectors.
+    """
     At = [congruence_operator(A) for A in As]
     if Bs is None:
         bt = [np.zeros(At[0].shape[0]) for _ in At]
@@ -72,10 +113,22 @@ def state_space(As: Sequence[np.ndarray], Bs: Sequence[np.ndarray] | None = None
 
 
 def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarray:
-    """The batch (observability) matrix of eq. (25): rows ``C~_k A~_{k-1} ... A~_0``.
+    r"""The batch (observability) matrix of equation (25): rows :math:`\tilde C_k \tilde
+    A_{k-1} \cdots \tilde A_0`.
 
     ``Cs`` has ``r + 1`` projections (times ``0..r``); ``As`` is one ``n x n`` matrix (a
     constant dynamics) or a sequence of exactly ``r`` matrices ``A_0..A_{r-1}``.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_k) arrays
+        The views at times ``0..r``.
+    As : array_like, shape (n, n) or (r, n, n)
+        The transition matrices.
+
+    Returns
+    -------
+    numpy.ndarray, shape (sum of m_k(m_k+1)/2, n(n+1)/2)
 
     Raises
     ------
@@ -97,10 +150,24 @@ def observability_matrix(Cs: Sequence[object], As: Sequence[object]) -> np.ndarr
 
 
 def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None) -> np.ndarray:
-    """The corrected observation vector ``y`` of eq. (25) (known drive removed).
+    """The corrected observation vector ``y`` of equation (25) (known drive removed).
 
     ``As`` and ``Bs`` are one matrix each (constant) or sequences of exactly
     ``len(Cs) - 1`` matrices (ValueError otherwise).
+
+    Parameters
+    ----------
+    Ys : sequence of (m_k, m_k) arrays
+        The observed projections.
+    Cs : sequence of (n, m_k) arrays
+        Their views.
+    As, Bs : array_like
+        Transition matrices and drive of eq. (20) (``Bs=None``: no drive).
+
+    Returns
+    -------
+    numpy.ndarray
+        The stacked corrected observations.
     """
     Cl = _check_Cs(Cs)
     Yl = _check_Ys(Ys, Cl)
@@ -119,7 +186,20 @@ def batch_rhs(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], 
 
 
 def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
-    """True when the observability matrix of eq. (25) has full column rank ``n(n+1)/2``."""
+    """True when the observability matrix of equation (25) has full column rank
+    :math:`n(n+1)/2`.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_k) arrays
+        The views at times ``0..r``.
+    As : array_like, shape (n, n) or (r, n, n)
+        The transition matrices.
+
+    Returns
+    -------
+    bool
+    """
     O = observability_matrix(Cs, As)
     return _rank(O) == O.shape[1]
 
@@ -127,11 +207,29 @@ def is_observable(Cs: Sequence[object], As: Sequence[object]) -> bool:
 def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[object], Bs: Sequence[object] | None = None,
                    lower: object = None, upper: object = None, method: str = "ls",
                    **options: object) -> np.ndarray:
-    """Batch estimate of ``X_0`` from ``Y_0..Y_r`` (eq. 24) and its propagation (eq. 20).
+    r"""Batch estimate of :math:`X_0` from :math:`Y_0, \dots, Y_r` (equation 24) and its
+    propagation (equation 20).
 
     ``method="ls"`` is ``x_0 = C^+ y`` (Sec. 6.2); ``"halfspace"``/``"sdp"`` impose
     ``lower <= X_0 <= upper``. Raises ``ValueError`` if the system is not observable
     (rank of eq. 25 below ``n(n+1)/2``) and ``method="ls"``.
+
+    Parameters
+    ----------
+    Ys : sequence of (m_k, m_k) arrays
+        Observed projections :math:`Y_0, \dots, Y_r`.
+    Cs : sequence of (n, m_k) arrays
+        Their orthonormal views.
+    As : array_like, shape (n, n) or (r, n, n)
+        Transition matrices of eq. (20), one per step between views (or one for all).
+    Bs : array_like, optional
+        Known drive of eq. (20), like ``As``; ``None`` means no drive.
+    lower, upper : array_like or float, optional
+        Interval bounds on :math:`X_0`, as in :func:`reconstruct`.
+    method : {"ls", "halfspace", "sdp"}
+        As in :func:`reconstruct`.
+    **options
+        Passed to the constrained solver.
 
     Returns
     -------
@@ -160,7 +258,8 @@ def batch_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obje
 
 def batch_estimate_many(Ys: object, Cs: Sequence[object], As: Sequence[object] | object,
                         Bs: Sequence[object] | object | None = None) -> np.ndarray:
-    """Unconstrained batch LS estimate (eqs. 24-25) for many data sets at once, propagated by eq. (20).
+    """Unconstrained batch LS estimate (equations 24-25) for many data sets at once,
+    propagated by equation (20).
 
     The estimate ``x_0 = C^+ (y - forced)`` is linear in the data, so the observability
     matrix, the drive's response and the propagation are computed once and applied to all
@@ -238,7 +337,8 @@ def batch_estimate_many(Ys: object, Cs: Sequence[object], As: Sequence[object] |
 
 
 def reconstruct_many(Ys: object, Cs: Sequence[object]) -> np.ndarray:
-    """Unconstrained LS estimates ``x = C^+ y`` (eq. 15) of many data sets at once.
+    r"""Unconstrained LS estimates :math:`x = \mathcal{C}^+ y` (equation 15) of many data
+    sets at once.
 
     The static problem is the dynamic one with ``A = I`` and no drive, so this is
     :func:`batch_estimate_many` at time 0; for one data set it equals :func:`reconstruct`.

@@ -12,13 +12,37 @@ __all__ = ["axes", "support", "volume", "boundary_points", "conic_points", "is_p
 
 
 def is_psd(X: object, tol: float = 1e-10) -> bool:
-    """True when the smallest eigenvalue of the symmetric ``X`` is >= ``-tol * max(1, ||X||)``."""
+    r"""True when the smallest eigenvalue of the symmetric :math:`X` is at least
+    :math:`-\mathrm{tol} \max(1, \|X\|)`.
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        A symmetric matrix.
+    tol : float, default 1e-10
+        Relative tolerance on the smallest eigenvalue (:math:`\|X\|` is the spectral norm).
+
+    Returns
+    -------
+    bool
+    """
     Xm = check_symmetric(X)
     return bool(np.linalg.eigvalsh(Xm)[0] >= -tol * max(1.0, float(np.linalg.norm(Xm, 2))))
 
 
 def nearest_psd(X: object) -> np.ndarray:
-    """Frobenius-nearest PSD matrix (negative eigenvalues set to zero)."""
+    """Frobenius-nearest PSD matrix (negative eigenvalues set to zero).
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        A symmetric matrix, e.g. an indefinite least-squares estimate.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+        The symmetric PSD matrix closest to ``X`` in the Frobenius norm.
+    """
     Xm = check_symmetric(X)
     lam, V = np.linalg.eigh(Xm)
     out = (V * np.clip(lam, 0.0, None)) @ V.T
@@ -26,10 +50,20 @@ def nearest_psd(X: object) -> np.ndarray:
 
 
 def axes(X: object) -> tuple[np.ndarray, np.ndarray]:
-    """Semi-axis lengths ``sqrt(lambda_i)`` and axis directions ``v_i`` (KVW Sec. 2).
+    r"""Semi-axis lengths :math:`\sqrt{\lambda_i}` and axis directions :math:`v_i` (KVW
+    Section 2).
 
-    Returns ``(lengths, directions)`` sorted by decreasing length; ``directions[:, i]`` is
-    the unit vector of the i-th axis.
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        The ellipsoid's symmetric PSD matrix.
+
+    Returns
+    -------
+    lengths : numpy.ndarray, shape (n,)
+        Semi-axis lengths, decreasing.
+    directions : numpy.ndarray, shape (n, n)
+        ``directions[:, i]`` is the unit vector of the i-th axis.
 
     Raises
     ------
@@ -45,9 +79,21 @@ def axes(X: object) -> tuple[np.ndarray, np.ndarray]:
 
 
 def support(X: object, u: object) -> np.ndarray:
-    """Support function ``h(u) = sqrt(u^T X u)`` of eq. (1) for unit vector(s) ``u``.
+    r"""Support function :math:`h(u) = \sqrt{u^T X u}` of equation (1) for unit vector(s)
+    :math:`u`.
 
-    ``u`` has shape ``(n,)`` or ``(k, n)``; rows are normalized.
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        The ellipsoid's symmetric PSD matrix.
+    u : array_like, shape (n,) or (k, n)
+        Direction(s), non-zero; rows are normalized.
+
+    Returns
+    -------
+    float or numpy.ndarray, shape (k,)
+        :math:`h(u)`, the largest :math:`z^T u` over the ellipsoid (a float for one
+        direction).
     """
     Xm = check_symmetric(X)
     if not is_psd(Xm):
@@ -66,7 +112,19 @@ def support(X: object, u: object) -> np.ndarray:
 
 
 def volume(X: object) -> float:
-    """Volume of the ellipsoid: ``V_n sqrt(det X)``, ``V_n`` the volume of the unit n-ball."""
+    r"""Volume of the ellipsoid: :math:`V_n \sqrt{\det X}`, :math:`V_n` the volume of the
+    unit n-ball.
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        The ellipsoid's symmetric PSD matrix.
+
+    Returns
+    -------
+    float
+        Its volume (area for :math:`n = 2`); 0 for a degenerate ellipsoid.
+    """
     from scipy.special import gamma
 
     Xm = check_symmetric(X)
@@ -77,9 +135,20 @@ def volume(X: object) -> float:
 
 
 def boundary_points(X: object, n_points: int = 200) -> np.ndarray:
-    """Boundary of a planar ellipse ``X^{1/2} u(t)`` (eq. 1; a segment if ``X`` is singular).
+    """Boundary of a planar ellipse, :math:`X^{1/2} u(t)` (equation 1; a segment if
+    :math:`X` is singular).
 
-    For ``n = 3`` returns a grid of surface points ``(k, k, 3)`` with ``k = n_points``.
+    Parameters
+    ----------
+    X : array_like, shape (2, 2) or (3, 3)
+        The ellipsoid's symmetric PSD matrix.
+    n_points : int, default 200
+        Points along the curve (``n = 2``) or per side of the surface grid (``n = 3``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_points, 2) or (n_points, n_points, 3)
+        The closed boundary curve, or a grid of surface points for ``n = 3``.
     """
     Xm = check_symmetric(X)
     if Xm.shape[0] not in (2, 3):
@@ -98,12 +167,28 @@ def boundary_points(X: object, n_points: int = 200) -> np.ndarray:
 
 
 def conic_points(X: object, n_points: int = 200, extent: float = 3.0) -> list[np.ndarray]:
-    """Curve(s) ``z^T X^{-1} z = 1`` of eq. (2) for an invertible planar ``X`` of any signature.
+    """Curve(s) :math:`z^T X^{-1} z = 1` of equation (2) for an invertible planar :math:`X`
+    of any signature.
 
     A PSD ``X`` gives its ellipse; an indefinite ``X`` (a non-PSD least squares estimate)
     gives the two branches of a hyperbola, which is how KVW draw such estimates (Fig. 9).
     ``extent`` limits the hyperbola parameter so the branches reach about that distance.
     Returns a list of ``(k, 2)`` arrays.
+
+    Parameters
+    ----------
+    X : array_like, shape (2, 2)
+        An invertible symmetric matrix.
+    n_points : int, default 200
+        Points per curve.
+    extent : float, default 3
+        Reach of the hyperbola's branches (indefinite ``X``).
+
+    Returns
+    -------
+    list of numpy.ndarray, shape (k, 2)
+        One curve for an ellipse, two branches for a hyperbola, none for a negative
+        definite ``X``.
     """
     Xm = check_symmetric(X, n=2)
     lam, V = np.linalg.eigh(Xm)

@@ -23,7 +23,23 @@ def _bound(b: object, n: int, name: str) -> np.ndarray | None:
 
 
 def interval_bounds(lower: object, upper: object, n: int, tol: float = 1e-9) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """Validate interval bounds ``lower <= X <= upper`` (Sec. 5.2); scalars mean ``alpha I``.
+    r"""Validate interval bounds :math:`L \le X \le U` (Section 5.2); a scalar
+    :math:`\alpha` means :math:`\alpha I`.
+
+    Parameters
+    ----------
+    lower, upper : array_like, float or None
+        The bounds: ``n x n`` symmetric matrices, scalars (multiples of the identity) or
+        None (no bound on that side).
+    n : int
+        Size of ``X``.
+    tol : float, default 1e-9
+        Tolerance of the check that ``upper - lower`` is PSD.
+
+    Returns
+    -------
+    (lower, upper) : (numpy.ndarray or None, numpy.ndarray or None)
+        The bounds as ``n x n`` arrays.
 
     Raises
     ------
@@ -40,7 +56,22 @@ def interval_bounds(lower: object, upper: object, n: int, tol: float = 1e-9) -> 
 
 
 def in_interval(X: object, lower: object = None, upper: object = None, tol: float = 1e-8) -> bool:
-    """True when ``lower - tol <= X <= upper + tol`` in the PSD order."""
+    r"""True when :math:`L - \mathrm{tol}\, I \le X \le U + \mathrm{tol}\, I` in the PSD
+    order.
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n)
+        A symmetric matrix.
+    lower, upper : array_like, float or None
+        The bounds, as in :func:`interval_bounds`.
+    tol : float, default 1e-8
+        Tolerance on the smallest eigenvalues of ``X - lower`` and ``upper - X``.
+
+    Returns
+    -------
+    bool
+    """
     Xm = check_symmetric(X)
     L, U = interval_bounds(lower, upper, Xm.shape[0])
     ok = True
@@ -52,12 +83,25 @@ def in_interval(X: object, lower: object = None, upper: object = None, tol: floa
 
 
 def interval_boundary_point(lower: object, upper: object, direction: object, side: str = "upper") -> np.ndarray:
-    """An element of the matrix interval that touches one of its bounds (Fig. 2 of KVW).
+    """An element of the matrix interval that touches one of its bounds (Figure 2 of KVW).
 
     Starting from the bound opposite to ``side``, moves along ``direction`` (a symmetric
     matrix, PSD for ``side="upper"``, so that the path stays above ``lower``) until the
     other bound is reached: the result ``X`` has ``upper - X`` (or ``X - lower``) singular,
     so its ellipse is tangent to the outer (inner) bound ellipse.
+
+    Parameters
+    ----------
+    lower, upper : array_like
+        The interval's bounds (``n x n`` symmetric, ``upper - lower`` PSD).
+    direction : array_like, shape (n, n)
+        Symmetric direction of the path (PSD for ``side="upper"``).
+    side : {"upper", "lower"}
+        Which bound the result touches.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
     """
     side = as_choice(side, "side", ("upper", "lower"))
     Lm = check_symmetric(lower, "lower")

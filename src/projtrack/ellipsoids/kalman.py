@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_array
+from projtrack._validation import as_array, optional_import
 
 from .checks import _check_Cs, _check_Ys, _dim, _mats, _seq, check_symmetric
 from .geometry import is_psd, nearest_psd
@@ -52,15 +52,29 @@ def kalman_estimate(Ys: Sequence[object], Cs: Sequence[object], As: Sequence[obj
     unconstrained, Sec. 6.2 of KVW); :class:`KalmanResult` reports how often and gives the
     Frobenius-nearest PSD matrices (the ad hoc projection KVW mention) alongside.
 
+    Needs the optional dependency filterpy (``pip install "projtrack[kalman]"``).
+
     Parameters
     ----------
+    Ys : sequence of (m_k, m_k) arrays
+        Observed projections at times ``0..r``.
+    Cs : sequence of (n, m_k) arrays
+        Their orthonormal views.
+    As : array_like, shape (n, n) or (r, n, n)
+        Transition matrices of eq. (20).
+    Bs : array_like, optional
+        Known drive of eq. (20); None means no drive.
     x0_mean : array_like (n, n), optional
         Prior mean of ``X_0``; default zero.
     P0, R, Q : float or array_like
         Prior covariance of ``svec(X_0)``, measurement noise covariance of ``svec(W_k)``
         and process noise covariance; scalars mean multiples of the identity.
+
+    Returns
+    -------
+    KalmanResult
     """
-    from filterpy.kalman import KalmanFilter
+    KalmanFilter = optional_import("filterpy.kalman", "kalman", "kalman_estimate").KalmanFilter
 
     Cl = _check_Cs(Cs)
     Yl = _check_Ys(Ys, Cl)

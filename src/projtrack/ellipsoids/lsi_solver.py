@@ -64,11 +64,28 @@ class _LSI:
 
 
 def lsi(E: np.ndarray, f: np.ndarray, G: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """Least squares with linear inequality constraints: ``min ||E x - f|| s.t. G x >= h``.
+    r"""Least squares with linear inequality constraints: :math:`\min \|E x - f\|` subject
+    to :math:`G x \ge h`.
 
     Lawson & Hanson's reduction LSI -> LDP -> NNLS (ch. 23 of "Solving Least Squares
     Problems", the standard method KVW point to for eq. 30), with the NNLS solved by
     :func:`scipy.optimize.nnls`. ``E`` must have full column rank.
+
+    Parameters
+    ----------
+    E : numpy.ndarray, shape (p, k)
+        Least-squares matrix (full column rank).
+    f : numpy.ndarray, shape (p,)
+        Right-hand side.
+    G : numpy.ndarray, shape (q, k)
+        Constraint matrix.
+    h : numpy.ndarray, shape (q,)
+        Constraint bounds.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k,)
+        The minimizer ``x``.
 
     Raises
     ------

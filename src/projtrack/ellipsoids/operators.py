@@ -15,10 +15,19 @@ __all__ = ["svec", "smat", "symmetric_basis", "ctilde", "congruence_operator", "
 
 
 def svec(X: object) -> np.ndarray:
-    """Coordinates of a symmetric matrix in the standard symmetric basis (eqs. 7 and 9).
+    """Coordinates of a symmetric matrix in the standard symmetric basis (equations 7 and
+    9).
 
     ``(x)_l = <X, M_l>``: the upper triangle row by row, off-diagonal entries times sqrt(2).
-    Accepts a stack ``(..., n, n)`` of symmetric matrices.
+
+    Parameters
+    ----------
+    X : array_like, shape (n, n) or (..., n, n)
+        A symmetric matrix, or a stack of them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n(n+1)/2,) or (..., n(n+1)/2)
     """
     A = as_array(X, "X")
     if A.ndim < 2 or A.shape[-1] != A.shape[-2]:
@@ -32,9 +41,16 @@ def svec(X: object) -> np.ndarray:
 
 
 def smat(x: object) -> np.ndarray:
-    """Inverse of :func:`svec`: the symmetric matrix ``sum_l x_l M_l`` (eq. 9).
+    r"""Inverse of :func:`svec`: the symmetric matrix :math:`\sum_l x_l M_l` (equation 9).
 
-    Accepts a stack ``(..., n(n+1)/2)`` of coordinate vectors.
+    Parameters
+    ----------
+    x : array_like, shape (n(n+1)/2,) or (..., n(n+1)/2)
+        Coordinates, or a stack of them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n) or (..., n, n)
     """
     v = as_array(x, "x")
     if v.ndim < 1:
@@ -49,17 +65,39 @@ def smat(x: object) -> np.ndarray:
 
 
 def symmetric_basis(n: int) -> np.ndarray:
-    """The standard symmetric basis ``{M_l^(n)}`` of eq. (9), shape ``(n(n+1)/2, n, n)``."""
+    r"""The standard symmetric basis :math:`\{M_l^{(n)}\}` of equation (9), shape
+    ``(n(n+1)/2, n, n)``.
+
+    Parameters
+    ----------
+    n : int
+        Size of the matrices (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n(n+1)/2, n, n)
+        The basis matrices ``M_l`` in the order of :func:`svec`.
+    """
     n = _as_size(n, "n", 1)
     return smat(np.eye(_dim(int(n))))
 
 
 def congruence_operator(A: object) -> np.ndarray:
-    """Matrix of the linear map ``X -> A^T X A`` in standard symmetric coordinates.
+    r"""Matrix of the linear map :math:`X \mapsto A^T X A` in standard symmetric
+    coordinates.
 
     ``A`` is any real ``n x m`` matrix; the result is ``m(m+1)/2 x n(n+1)/2`` with entries
     ``<M_i^(m), A^T M_j^(n) A>`` (eq. 10). Used for ``C~`` (orthonormal ``C``) and for the
     dynamics ``A~`` of eq. (21).
+
+    Parameters
+    ----------
+    A : array_like, shape (n, m)
+        Any real matrix.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m(m+1)/2, n(n+1)/2)
     """
     M = as_array(A, "A")
     if M.ndim == 1:
@@ -72,20 +110,39 @@ def congruence_operator(A: object) -> np.ndarray:
 
 
 def ctilde(C: object) -> np.ndarray:
-    """The operator ``C~`` of eq. (10): ``svec(C^T X C) = C~ svec(X)`` (eq. 11).
+    r"""The operator :math:`\tilde C` of equation (10): :math:`\operatorname{svec}(C^T X C)
+    = \tilde C \operatorname{svec}(X)` (equation 11).
 
-    ``C`` must have orthonormal columns (an ``n x m`` projection, KVW Sec. 3).
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        Orthonormal columns (an ``n x m`` projection, KVW Sec. 3; a 1-D array is one
+        column).
+
+    Returns
+    -------
+    numpy.ndarray, shape (m(m+1)/2, n(n+1)/2)
     """
     return congruence_operator(check_orthonormal(C))
 
 
 def svec_basis_matrix(n: int) -> np.ndarray:
-    """``n^2 x n(n+1)/2`` matrix ``P`` with ``vec(X) = P svec(X)``: its columns are ``vec(M_l)``.
+    r"""The :math:`n^2 \times n(n+1)/2` matrix :math:`P` with :math:`\operatorname{vec}(X) =
+    P \operatorname{svec}(X)`: its columns are :math:`\operatorname{vec}(M_l)`.
 
     The columns are the standard symmetric basis of eq. (9), so ``P`` has orthonormal columns
     and entries ``0``, ``1`` and ``1/sqrt(2)``; ``P^T vec(X) = svec(X)``. It is *not* the
     Magnus-Neudecker duplication matrix ``D_n`` (entries 0 and 1, ``vec(X) = D_n vech(X)``):
     ``P = D_n diag(w)^{-1}`` with ``w = 1`` on the diagonal entries and ``sqrt(2)`` off it.
+
+    Parameters
+    ----------
+    n : int
+        Size of the matrices (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n*n, n(n+1)/2)
 
     Raises
     ------
@@ -98,18 +155,42 @@ def svec_basis_matrix(n: int) -> np.ndarray:
 
 
 def kron_operator(C: object) -> np.ndarray:
-    """The Kronecker form of eq. (6): ``vec(C^T X C) = (C^T kron C^T) vec(X)``."""
+    r"""The Kronecker form of equation (6): :math:`\operatorname{vec}(C^T X C) = (C^T
+    \otimes C^T) \operatorname{vec}(X)`.
+
+    Parameters
+    ----------
+    C : array_like, shape (n, m) or (n,)
+        Orthonormal columns.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m*m, n*n)
+        The matrix ``C^T kron C^T``.
+    """
     Cm = check_orthonormal(C)
     return np.kron(Cm.T, Cm.T)
 
 
 def stacked_operator(Cs: Sequence[object]) -> np.ndarray:
-    """The stacked operator ``C`` of eq. (14): the ``C~_i`` of eq. (10) one above the other."""
+    r"""The stacked operator :math:`\mathcal{C}` of equation (14): the :math:`\tilde C_i` of
+    equation (10) one above the other.
+
+    Parameters
+    ----------
+    Cs : sequence of (n, m_i) arrays
+        The orthonormal views (1-D arrays are single columns).
+
+    Returns
+    -------
+    numpy.ndarray, shape (sum of m_i(m_i+1)/2, n(n+1)/2)
+    """
     return np.vstack([congruence_operator(C) for C in _check_Cs(Cs)])
 
 
 def project(X: object, C: object) -> np.ndarray:
-    """Orthogonal (silhouette) projection of the ellipsoid ``X`` onto ``range(C)`` (eq. 4).
+    """Orthogonal (silhouette) projection of the ellipsoid ``X`` onto ``range(C)``
+    (equation 4).
 
     Parameters
     ----------

@@ -6,6 +6,8 @@ import warnings
 
 import numpy as np
 
+from projtrack._validation import optional_import
+
 from .checks import _n_from_dim
 
 __all__ = ["sdp_reconstruct"]
@@ -13,7 +15,8 @@ __all__ = ["sdp_reconstruct"]
 
 def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, upper: np.ndarray | None,
                     solver: str = "CLARABEL", info: dict | None = None, **solver_options: object) -> np.ndarray:
-    """Interval-constrained least squares ``min ||A svec(X) - y||^2, lower <= X <= upper`` by cvxpy.
+    r"""Interval-constrained least squares :math:`\min \|A \operatorname{svec}(X) - y\|^2,\
+    L \le X \le U` by cvxpy.
 
     The modern reference for Sec. 5.2 / eq. (27): a semidefinite program solved by
     Clarabel (interior point, default tolerances ~1e-8). SCS at its default tolerance can
@@ -24,6 +27,28 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     cvxpy problem and compiling it for the solver) and ``"solve_time"`` (the solver's own
     time as it reports it), so that timings can be given with and without cvxpy's set-up.
 
+    Needs the optional dependency cvxpy (``pip install "projtrack[sdp]"``).
+
+    Parameters
+    ----------
+    A : numpy.ndarray, shape (N, n(n+1)/2)
+        The stacked operator of eq. (14) (:func:`stacked_operator`).
+    y : numpy.ndarray, shape (N,)
+        The stacked coordinates of the observations.
+    lower, upper : numpy.ndarray, shape (n, n), or None
+        Interval bounds (``None``: no bound on that side), as returned by
+        :func:`interval_bounds`.
+    solver : str, default "CLARABEL"
+        A cvxpy solver name.
+    info : dict, optional
+        Receives the timings (above).
+    **solver_options
+        Passed to the solver.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+
     Raises
     ------
     RuntimeError
@@ -33,7 +58,7 @@ def sdp_reconstruct(A: np.ndarray, y: np.ndarray, lower: np.ndarray | None, uppe
     """
     import time
 
-    import cvxpy as cp
+    cp = optional_import("cvxpy", "sdp", "the semidefinite program (method='sdp')")
 
     if info is not None and not isinstance(info, dict):
         raise TypeError(f"info must be a dict or None, got {type(info).__name__}")

@@ -11,17 +11,20 @@ track initiator for multitarget tracking", Appl. Opt. 27, 4546, 1988):
   (:func:`rotate_integrate_hough`);
 * the thresholded HT of Sec. V (threshold every frame's HT, then sum:
   :func:`thresholded_hough_transform`);
-* the peak detector of Sec. VII: ratio of the exact HT to its 5 x 5 local average
-  above 3, split peaks bridged at 1.5 provided one cell exceeds 3, adjacent peak cells
-  grouped and their centroid taken (:func:`find_peaks`, :func:`detect_peaks`), with a
-  documented minimum-vote floor;
+* peaks: :func:`find_peaks` finds local maxima above a vote threshold by default
+  (scikit-image's ``hough_line_peaks`` conventions), and the peak detector of Sec. VII
+  with ``method="ratio"``: ratio of the exact HT to its 5 x 5 local average above 3,
+  split peaks bridged at 1.5 provided one cell exceeds 3, adjacent peak cells grouped
+  and their centroid taken (:func:`detect_peaks`), with a documented minimum-vote floor;
 * track confirmation and state estimation of Sec. III: the strip of half-width
   ``drho`` along a detected line, its projection at increasing resolutions ``dx'``,
   the pulse correlation with empty samples set to -10, the 75 % rule, the position of
   Eq. (5), the velocity of Eqs. (6)-(7) (with ``P_D`` compensation) and a prediction
   ``k`` frames ahead (:func:`estimate_track`);
 * the covariance approximations of Eqs. (8), (9), (12), (13) (:func:`track_covariance`);
-* a :class:`TrackInitiator` chaining all of this over a stack of frames.
+* a :class:`TrackInitiator` chaining all of this over a stack of frames (its docstring
+  gives the estimator's measured accuracy; ``refine=True`` re-estimates each confirmed
+  track by least squares on its strip's points).
 
 .. rubric:: Modules
 

@@ -47,12 +47,28 @@ def _line_frame(theta_deg: float, heading_hint: Sequence[float]) -> tuple[np.nda
 def strip_projection(points: object, shape: tuple[int, int], rho: float, theta_deg: float, *,
                      half_width: float = 2.0, heading_hint: Sequence[float] = (0.0, 1.0),
                      origin: str = "center") -> tuple[np.ndarray, float, np.ndarray]:
-    """Projection at ``dx' = 1`` of the strip ``|y'| <= half_width`` along a line (Fig. 1(a)-(c)).
+    r"""Projection at :math:`\Delta x' = 1` of the strip :math:`|y'| \le` ``half_width``
+    along a line (Figure 1(a)-(c)).
 
     In the rotated frame of the detected line, ``y' = x cos(theta) + y sin(theta) - rho``
     (signed distance) and ``x'`` runs along the line in the direction ``d`` that points
     along ``heading_hint`` (the prior direction of motion: boost-phase targets climb,
     so the default is +y). The strip points are binned at unit resolution in ``x'``.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        ``(x, y)`` detections (may be empty).
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    rho, theta_deg : float
+        The line.
+    half_width : float, keyword-only, default 2
+        Half-width of the strip (> 0).
+    heading_hint : (float, float), keyword-only, default (0, 1)
+        Prior direction of motion.
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from, as in :func:`hough_transform`.
 
     Returns
     -------
@@ -87,12 +103,20 @@ def strip_projection(points: object, shape: tuple[int, int], rho: float, theta_d
 
 
 def pulse_correlation(P: object, zero_value: float = PULSE_ZERO_VALUE) -> tuple[float, int, int]:
-    """Best correlation of a projection with a unit pulse of any width ``L`` (Sec. III).
+    """Best correlation of a projection with a unit pulse of any width :math:`L` (Section
+    III).
 
     Empty samples ``P_j = 0`` are replaced by ``zero_value`` (-10 in the paper) so that
     the best window is a contiguous run of non-empty samples; correlating with pulses of
     every width ``L`` and taking the largest peak is the maximum-sum window, found here
     by Kadane's algorithm.
+
+    Parameters
+    ----------
+    P : array_like, 1-D
+        A projection (non-negative counts), non-empty.
+    zero_value : float, default -10
+        Value given to empty samples.
 
     Returns
     -------
@@ -123,7 +147,7 @@ def pulse_correlation(P: object, zero_value: float = PULSE_ZERO_VALUE) -> tuple[
 
 @dataclass(frozen=True)
 class ProjectionResult:
-    """Outcome of the projection/pulse procedure of Sec. III on one line.
+    """Outcome of the projection/pulse procedure of Section III on one line.
 
     Attributes
     ----------
@@ -163,14 +187,16 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
                           zero_value: float = PULSE_ZERO_VALUE,
                           stop_fraction: float | None = None,
                           dx_schedule: str = "double") -> ProjectionResult:
-    """Increase ``dx'`` until the 75 % rule holds, then apply Eq. (5) (Sec. III, Fig. 1(c)).
+    r"""Increase :math:`\Delta x'` until the 75 % rule holds, then apply Equation (5)
+    (Section III, Figure 1(c)).
 
     The ``dx' = 1`` projection is summed in pairs (``dx' = 2, 4, 8, ...``) up to
     ``dx_max`` (16 in Sec. V). At each resolution the projection is correlated with
     pulses of every width (:func:`pulse_correlation`); the procedure stops at the
     first ``dx'`` whose peak ``I`` is at least ``confirm_fraction`` of the number of
     ones at ``dx' = 1``. The position is Eq. (5),
-    ``x' = x0 + dx' [j + (P_j - 0.5) L / I]``, with ``j`` the leading sample.
+    :math:`x' = x_0 + \Delta x' \,[\,j + (P_j - 0.5) L / I\,]`, with :math:`j` the
+    leading sample.
 
     Parameters
     ----------
@@ -247,7 +273,7 @@ def project_and_correlate(counts: object, x0: float = 0.0, *, dx_max: int = 16,
 
 def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: float = 2.0,
                      jitter_sigma: float = 0.5, total_time: float | None = None) -> dict[str, float]:
-    """Variances of the track estimates, Eqs. (8), (9), (12), (13) of Sec. VI.
+    r"""Variances of the track estimates, Equations (8), (9), (12), (13) of Section VI.
 
     Parameters
     ----------
@@ -267,11 +293,12 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
     Returns
     -------
     dict
-        ``var_x``: ``(v_x T)^2 / 12 + sigma_j^2`` (Eq. (8); the paper's ``v_x^2 / 4(3)``
-        with ``v_x`` the displacement per frame, as the text derives it: uniform over
-        ``+-v_x T / 2``), ``var_y``: ``drho^2 / 3`` (Eq. (9)), ``var_vx``:
-        ``v_x^2 / (3 N_p^2) + sigma_j^2 / (N_p^2 T^2)`` (Eq. (12)), ``var_vy``:
-        ``4 drho^2 / (3 T_T^2)`` (Eq. (13)).
+        ``var_x``: :math:`(v_x T)^2 / 12 + \sigma_j^2` (Eq. (8); the paper's
+        :math:`v_x^2 / 4(3)` with :math:`v_x` the displacement per frame, as the text
+        derives it: uniform over :math:`\pm v_x T / 2`), ``var_y``:
+        :math:`\Delta\rho^2 / 3` (Eq. (9)), ``var_vx``:
+        :math:`v_x^2 / (3 N_p^2) + \sigma_j^2 / (N_p^2 T^2)` (Eq. (12)), ``var_vy``:
+        :math:`4 \Delta\rho^2 / (3 T_T^2)` (Eq. (13)).
     """
     speed = as_real(speed, "speed", 0)
     T = as_real(frame_time, "frame_time", 0, low_open=True)
@@ -290,7 +317,7 @@ def track_covariance(speed: float, frame_time: float, n_frames: int, *, drho: fl
 
 @dataclass(frozen=True)
 class TrackEstimate:
-    """A line found by the HT and the state estimated from its strip (Sec. III).
+    """A line found by the HT and the state estimated from its strip (Section III).
 
     Attributes
     ----------
@@ -313,6 +340,10 @@ class TrackEstimate:
         Details of the projection procedure.
     frame_time : float
         ``T``.
+    refined : bool
+        ``False`` for the paper's estimate (Eqs. (5)-(7)); ``True`` when ``position``,
+        ``velocity``, ``speed`` and ``covariance`` come from the least-squares refinement
+        of :class:`TrackInitiator` (``refine=True``).
     """
 
     rho: float
@@ -326,6 +357,7 @@ class TrackEstimate:
     direction: np.ndarray
     projection: ProjectionResult
     frame_time: float
+    refined: bool = False
 
     def predict(self, k: int | float) -> np.ndarray:
         """Position ``k`` frames after the most recent one, at constant velocity."""
@@ -340,16 +372,51 @@ def estimate_track(points: object, shape: tuple[int, int], rho: float, theta_deg
                    heading_hint: Sequence[float] = (0.0, 1.0), votes: float = float("nan"),
                    origin: str = "center", stop_fraction: float | None = None,
                    dx_schedule: str = "double") -> TrackEstimate:
-    """Confirm one HT line and estimate the target's state (Sec. III and VI).
+    r"""Confirm one HT line and estimate the target's state (Section III and VI).
 
     Projects the strip ``|y'| <= drho`` of the composite ``points``
     (:func:`strip_projection`), runs the ``dx'``/pulse procedure
     (:func:`project_and_correlate`), and estimates the position by Eq. (5) and the
-    speed by Eq. (7), ``v = dx' P_D L / (I T)`` (Eq. (6) when ``P_D = 1``); the
+    speed by Eq. (7), :math:`v = \Delta x' P_D L / (I T)` (Eq. (6) when :math:`P_D = 1`); the
     velocity points along the line in the direction of ``heading_hint``. The
     covariance is :func:`track_covariance` rotated to image axes. ``stop_fraction`` and
     ``dx_schedule`` are passed to :func:`project_and_correlate` (``None`` and
     ``"double"``: the paper's 75 % stopping rule and doubling of ``dx'``).
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        The composite's detections, ``(x, y)`` pixels.
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    rho, theta_deg : float
+        The line (e.g. a peak of :func:`find_peaks`).
+    frame_time : float, keyword-only
+        :math:`T`, seconds between frames (> 0).
+    n_frames : int, keyword-only
+        :math:`N_p`, frames in the composite (for the covariances).
+    drho : float, keyword-only, default 2
+        Half-width of the strip (the HT's resolution).
+    p_detect : float, keyword-only, default 1
+        :math:`P_D` of Eq. (7).
+    jitter_sigma : float, keyword-only, default 0.5
+        :math:`\sigma_j` (pixels) of the covariances.
+    dx_max : int, keyword-only, default 16
+        Largest projection resolution.
+    confirm_fraction : float, keyword-only, default 0.75
+        The 75 % rule.
+    heading_hint : (float, float), keyword-only, default (0, 1)
+        Prior direction of motion (orients :math:`x'`).
+    votes : float, keyword-only
+        The peak's votes, stored in the result.
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from, as in :func:`hough_transform`.
+    stop_fraction, dx_schedule : keyword-only
+        See :func:`project_and_correlate`.
+
+    Returns
+    -------
+    TrackEstimate
 
     Raises
     ------

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from projtrack._validation import as_int, as_odd_window, as_real, only_value_errors
+from projtrack._validation import as_choice, as_int, as_odd_window, as_real, only_value_errors
 from projtrack.hough._checks import _check_plane
 
 __all__ = [
@@ -35,7 +35,8 @@ def _wraps(rhos: np.ndarray, thetas: np.ndarray) -> bool:
 
 def local_average(H: object, size: int = 5, *, rhos: object | None = None,
                   thetas_deg: object | None = None, exclude_ridge: int | None = None) -> np.ndarray:
-    """The ``size x size`` local average of the Hough plane (the defocused HT of Sec. VII).
+    """The ``size x size`` local average of the Hough plane (the defocused HT of Section
+    VII).
 
     Outside the plane ``rho`` is padded with zeros; ``theta`` wraps around with
     ``(rho, theta + 180) = (-rho, theta)`` when ``rhos`` and ``thetas_deg`` show that the
@@ -115,14 +116,30 @@ class HoughPeak:
 def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 3.0,
                  bridge: float = 1.5, min_votes: float = 3.0, size: int = 5,
                  exclude_ridge: int | None = None) -> list[HoughPeak]:
-    """Peak detector of Sec. VII with a minimum-vote floor; see :func:`find_peaks`.
+    """Peak detector of Section VII with a minimum-vote floor; see :func:`find_peaks`.
 
     ``exclude_ridge`` (default ``None``, the paper's rule) is passed to
     :func:`local_average`: with ``exclude_ridge=1`` the ratio compares a cell with the
     mean of its ``5 x 5`` window without the three ``rho`` rows through it, i.e. with the
     background of the plane rather than with the line's own ridge. For an ideal line of
-    ``N`` votes on a bias ``b`` the paper's ratio is ``N / (N/5 + b) < 5``, the
-    ridge-free one ``N / b``.
+    ``N`` votes on a bias ``b`` (false pixels vote in the line's own cell too) the paper's
+    ratio is ``(N + b) / (N/5 + b) < 5``, the ridge-free one ``(N + b) / b``.
+
+    Parameters
+    ----------
+    H : array_like, shape (len(rhos), len(thetas_deg))
+        Non-negative Hough plane.
+    rhos, thetas_deg : array_like
+        Its axes, strictly increasing.
+    ratio, bridge : float, keyword-only, default 3 and 1.5
+        The paper's thresholds on the ratio of a cell to its local average
+        (``bridge <= ratio``).
+    min_votes : float, keyword-only, default 3
+        Cells with fewer votes are never peak cells.
+    size : int, keyword-only, default 5
+        Odd side of the averaging window.
+    exclude_ridge : int or None, keyword-only
+        See above and :func:`local_average`.
 
     Returns
     -------
@@ -210,23 +227,39 @@ def detect_peaks(H: object, rhos: object, thetas_deg: object, *, ratio: float = 
     return peaks
 
 
-def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "ratio", ratio: float = 3.0,
-               bridge: float = 1.5, min_votes: float = 3.0, size: int = 5) -> list[tuple[float, float]]:
-    """Lines of a Hough plane by the ratio rule of Sec. VII.
+def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "local-max",
+               threshold: float | None = None, min_distance: int = 9, min_angle: int = 10,
+               num_peaks: int | None = None, ratio: float = 3.0, bridge: float = 1.5,
+               min_votes: float = 3.0, size: int = 5) -> list[tuple[float, float]]:
+    r"""Lines of a Hough plane: local maxima above a vote threshold, or the paper's ratio rule.
 
-    A cell is a peak cell when the ratio of the exact HT to its ``5 x 5`` local average
-    (:func:`local_average`, the optically defocused HT) exceeds ``ratio = 3``. Peaks
-    that split are bridged: the cells whose ratio exceeds ``bridge = 1.5`` are grouped
-    by 8-adjacency and a group is kept when at least one of its cells exceeds 3. Each
-    group gives one line at its vote-weighted centroid.
+    ``method="local-max"`` (default) follows the conventions of scikit-image's
+    ``hough_line_peaks``: a cell is a peak when it holds at least ``threshold`` votes
+    (default half the plane's maximum, and never fewer than ``min_votes``) and is the
+    largest in its neighbourhood of :math:`\pm` ``min_distance`` ``rho`` bins and
+    :math:`\pm` ``min_angle`` ``theta`` bins; peaks are then taken strongest first,
+    each suppressing the weaker ones in that neighbourhood, up to ``num_peaks``. When
+    the plane covers [0, 180) degrees with a symmetric ``rho`` axis, the neighbourhood
+    wraps around in ``theta`` (the cell :math:`(\rho, \theta + 180)` is
+    :math:`(-\rho, \theta)`). Each peak is reported at its cell's ``(rho, theta)``, or
+    at the centre of its flat top when adjacent cells hold the same votes.
 
-    The minimum-vote floor. On a sparse accumulator the ratio alone flags cells with
-    one or two votes surrounded by empty cells (the paper's Hough plane sat on a large
-    bias, so this could not happen there). Any two points define a line, so a cell
+    ``method="ratio"`` is the rule of Sec. VII of the paper (the book uses it): a cell
+    is a peak cell when the ratio of the exact HT to its ``size x size`` local average
+    (:func:`local_average`, the optically defocused HT) exceeds ``ratio`` (3). Peaks
+    that split are bridged: the cells whose ratio exceeds ``bridge`` (1.5) are grouped
+    by 8-adjacency and a group is kept when at least one of its cells exceeds ``ratio``.
+    Each group gives one line at its vote-weighted centroid (:func:`detect_peaks` returns
+    the groups with their votes and ratios). For an ideal line of :math:`N` votes on a
+    plane without background the ratio is below 5 only by the line's own ridge, so the
+    rule finds isolated lines, but on a sparse plane it also flags cells of two or three
+    chance votes and on a busy one it misses lines: the book's chapter on the Hough
+    initiator shows where it works.
+
+    The minimum-vote floor (both methods): any two points define a line, so a cell
     with two votes is no evidence of collinearity; the default floor ``min_votes = 3``
     is the smallest count that is. :class:`TrackInitiator` raises it to a quarter of
-    the number of frames of the composite (a track must have been seen in at least a
-    quarter of the frames), one rule for every experiment.
+    the number of frames of the composite.
 
     Parameters
     ----------
@@ -234,24 +267,92 @@ def find_peaks(H: object, rhos: object, thetas_deg: object, *, method: str = "ra
         Non-negative Hough plane (e.g. from :func:`hough_transform`).
     rhos, thetas_deg : array_like
         Its axes, strictly increasing.
-    method : {"ratio"}, keyword-only
-        The peak rule: ``"ratio"``, the paper's rule described here.
-    ratio, bridge : float, keyword-only
-        The paper's thresholds, 3 and 1.5.
+    method : {"local-max", "ratio"}, keyword-only, default "local-max"
+        The peak rule (above).
+    threshold : float or None, keyword-only
+        ``"local-max"``: the vote threshold; ``None`` means half the largest cell.
+    min_distance, min_angle : int, keyword-only, default 9 and 10
+        ``"local-max"``: half-sizes of the suppression neighbourhood, in ``rho`` and
+        ``theta`` bins (scikit-image's defaults).
+    num_peaks : int or None, keyword-only
+        ``"local-max"``: the largest number of peaks returned (``None``: all).
+    ratio, bridge : float, keyword-only, default 3 and 1.5
+        ``"ratio"``: the paper's thresholds.
     min_votes : float, keyword-only, default 3
-        Cells with fewer votes are never peak cells.
+        Cells with fewer votes are never peaks.
     size : int, keyword-only, default 5
-        Side of the averaging window.
+        ``"ratio"``: side of the averaging window.
 
     Returns
     -------
     list of (rho, theta_deg)
         One pair of floats per detected line, strongest first.
+
+    Examples
+    --------
+    Three lines of 40 points among 200 uniform noise points:
+
+    >>> import numpy as np
+    >>> from projtrack.hough import find_peaks, hough_transform
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.linspace(-60, 60, 40)
+    >>> lines = [np.c_[t, 0.5 * t], np.c_[t, -t + 20], np.c_[30 + 0 * t, t]]
+    >>> noise = rng.uniform(-100, 100, (200, 2))
+    >>> pts = np.vstack(lines + [noise]) + 128           # (x, y) pixels
+    >>> H, rhos, thetas = hough_transform(pts, (256, 256))
+    >>> peaks = find_peaks(H, rhos, thetas)
+    >>> len(peaks)
+    3
+    >>> sorted(round(th) for _, th in peaks)
+    [0, 45, 116]
     """
-    if method != "ratio":
-        raise ValueError(f"method must be 'ratio', got {method!r}")
-    return [(p.rho, p.theta_deg) for p in detect_peaks(H, rhos, thetas_deg, ratio=ratio, bridge=bridge,
-                                                       min_votes=min_votes, size=size)]
+    as_choice(method, "method", ("local-max", "ratio"))
+    if method == "ratio":
+        return [(p.rho, p.theta_deg) for p in detect_peaks(H, rhos, thetas_deg, ratio=ratio, bridge=bridge,
+                                                           min_votes=min_votes, size=size)]
+    Hf, r, t = _check_plane(H, rhos, thetas_deg)
+    min_votes = only_value_errors(as_real, min_votes, "min_votes", 0)
+    md = as_int(min_distance, "min_distance", minimum=0)
+    ma = as_int(min_angle, "min_angle", minimum=0)
+    if num_peaks is not None:
+        num_peaks = as_int(num_peaks, "num_peaks", minimum=1)
+    top = float(Hf.max(initial=0.0))
+    thr = 0.5 * top if threshold is None else as_real(threshold, "threshold", 0)
+    thr = max(thr, float(min_votes), np.finfo(float).tiny)
+    wrap = _wraps(r, t) if t.size > 1 else False
+    nr, nt = Hf.shape
+    if wrap and ma > 0:  # theta neighbours across 0 / 180 are (-rho, theta -+ 180)
+        k = min(ma, nt)
+        padded = np.concatenate([Hf[::-1, -k:], Hf, Hf[::-1, :k]], axis=1)
+    else:
+        k = ma
+        padded = np.pad(Hf, ((0, 0), (k, k)))
+    local = ndimage.maximum_filter(padded, size=(2 * md + 1, 2 * ma + 1), mode="constant",
+                                   cval=0.0)[:, k:k + nt]
+    cand = np.flatnonzero(((Hf >= thr) & (Hf >= local)).ravel())
+    order = cand[np.lexsort((cand, -Hf.ravel()[cand]))]  # strongest first, then by cell index
+    taken: list[tuple[int, int]] = []
+    for c in order:
+        i, j = divmod(int(c), nt)
+        close = False
+        for a, b in taken:
+            if abs(i - a) <= md and abs(j - b) <= ma:
+                close = True
+            elif wrap and abs(abs(j - b) - nt) <= ma and abs(i - (nr - 1 - a)) <= md:
+                close = True
+            if close:
+                break
+        if not close:
+            taken.append((i, j))
+            if num_peaks is not None and len(taken) >= num_peaks:
+                break
+    out = []
+    for i, j in taken:  # a flat top (equal votes in adjacent cells) is reported at its centre
+        i0, i1, j0, j1 = max(0, i - md), min(nr, i + md + 1), max(0, j - ma), min(nt, j + ma + 1)
+        lab, _ = ndimage.label(Hf[i0:i1, j0:j1] == Hf[i, j], structure=np.ones((3, 3), dtype=bool))
+        ii, jj = np.nonzero(lab == lab[i - i0, j - j0])
+        out.append((float(r[ii + i0].mean()), float(t[jj + j0].mean())))
+    return out
 
 
 def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0, dtheta_deg: float = 1.0,
@@ -261,6 +362,19 @@ def window_neighbours(lines: Sequence[tuple[float, float]], *, drho: float = 2.0
     Two lines share a window when ``|rho_1 - rho_2| <= (size // 2) drho`` and their angles
     differ by at most ``(size // 2) dtheta`` (taking ``(rho, theta + 180) = (-rho, theta)``
     into account): the second line then raises the local average of the first's peak.
+
+    Parameters
+    ----------
+    lines : sequence of (rho, theta_deg)
+        The lines.
+    drho, dtheta_deg : float, keyword-only, default 2 and 1
+        Resolutions of the Hough plane.
+    size : int, keyword-only, default 5
+        Side of the averaging window.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (len(lines),)
     """
     k = size // 2
     L = np.asarray(lines, dtype=float).reshape(-1, 2)

@@ -15,7 +15,7 @@ from math import ceil
 import numpy as np
 from scipy import ndimage
 
-from projtrack._validation import as_real, as_shape2
+from projtrack._validation import as_bool, as_real, as_shape2
 from projtrack.hough import _kernel
 from projtrack.hough._checks import (_check_binary_image, _check_frames, _check_origin, _check_points,
                                      _origin_xy)
@@ -32,7 +32,7 @@ __all__ = [
 
 def hough_axes(shape: tuple[int, int], drho: float = 2.0, dtheta_deg: float = 1.0,
                origin: str = "center") -> tuple[np.ndarray, np.ndarray]:
-    """Sample positions of the Hough plane (Sec. II.B).
+    """Sample positions of the Hough plane (Section II.B).
 
     Parameters
     ----------
@@ -79,7 +79,7 @@ def _vote(pts: np.ndarray, shape: tuple[int, int], rhos: np.ndarray, thetas_deg:
 def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,
                     dtheta_deg: float = 1.0, *, origin: str = "center",
                     allow_empty: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Straight-line Hough transform of a point list by voting, Eq. (1).
+    """Straight-line Hough transform of a point list by voting, Equation (1).
 
     Every point ``(x, y)`` adds one vote to the cell nearest to
     ``rho = x cos(theta) + y sin(theta)`` at every sampled ``theta``; the value of a
@@ -116,13 +116,15 @@ def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,
 
     Examples
     --------
-    >>> pts = [(128 + t, 100) for t in range(-20, 21, 4)]   # horizontal line y = 100
+    >>> from projtrack.hough import find_peaks, hough_transform
+    >>> pts = [(128 + t, 100) for t in range(-20, 21, 4)]  # the line y = 100
     >>> H, rhos, thetas = hough_transform(pts, (256, 256))
     >>> float(H.max()), H.shape
     (11.0, (183, 180))
     >>> [(round(r), round(t)) for r, t in find_peaks(H, rhos, thetas)]
     [(-28, 90)]
     """
+    allow_empty = as_bool(allow_empty, "allow_empty")
     shape = as_shape2(shape)
     rhos, thetas = hough_axes(shape, drho, dtheta_deg, origin)
     pts = _check_points(points, shape, allow_empty=allow_empty)
@@ -131,9 +133,23 @@ def hough_transform(points: object, shape: tuple[int, int], drho: float = 2.0,
 
 def hough_transform_image(image: object, drho: float = 2.0, dtheta_deg: float = 1.0, *,
                           origin: str = "center") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Hough transform of a binary image (every 1 pixel votes), Eq. (1).
+    """Hough transform of a binary image (every 1 pixel votes), Equation (1).
 
     ``image[y, x]`` is the pixel at ``(x, y)``. See :func:`hough_transform`.
+
+    Parameters
+    ----------
+    image : array_like, 2-D
+        Binary image (0/1 or bool); its shape is the frame's ``(height, width)``.
+    drho, dtheta_deg : float, default 2 and 1
+        Resolutions of the plane (pixels, degrees).
+    origin : {"center", "corner"}, keyword-only
+        Where ``rho`` is measured from (see :func:`hough_axes`).
+
+    Returns
+    -------
+    H, rhos, thetas_deg : numpy.ndarray
+        As :func:`hough_transform`.
 
     Raises
     ------
@@ -149,7 +165,7 @@ def hough_transform_image(image: object, drho: float = 2.0, dtheta_deg: float = 
 def thresholded_hough_transform(frames: Sequence[object], shape: tuple[int, int], drho: float = 2.0,
                                 dtheta_deg: float = 1.0, *, threshold: float = 1.0,
                                 origin: str = "center") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Thresholded Hough transform of Sec. V: threshold each frame's HT, then sum.
+    """Thresholded Hough transform of Section V: threshold each frame's HT, then sum.
 
     ``H = sum_k [H_k >= threshold]``. With the default ``threshold = 1`` a line made
     of several points of one frame (a cloud edge, targets that happen to be aligned in
@@ -182,7 +198,8 @@ def thresholded_hough_transform(frames: Sequence[object], shape: tuple[int, int]
 
 def rotate_integrate_hough(image: object, drho: float = 2.0, dtheta_deg: float = 1.0, *,
                            origin: str = "center", order: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Hough transform as projections of the rotated image, Eqs. (2)-(3) and Fig. 11.
+    """Hough transform as projections of the rotated image, Equations (2)-(3) and Figure
+    11.
 
     The optical processor of Sec. VII rotates the image with a Dove prism and
     integrates it along one axis with a cylindrical lens: the output at angle
@@ -233,10 +250,24 @@ def rotate_integrate_hough(image: object, drho: float = 2.0, dtheta_deg: float =
 
 
 def line_through(points: object, shape: tuple[int, int], *, origin: str = "center") -> tuple[float, float]:
-    """Total-least-squares line through ``points`` as ``(rho, theta_deg)`` in the HT's convention.
+    """Total-least-squares line through ``points`` as ``(rho, theta_deg)`` in the HT's
+    convention.
 
     ``theta_deg`` lies in [0, 180); ``rho`` is measured from the origin of
     :func:`hough_transform`. Used to compare a target's true track with the Hough plane.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        At least two distinct ``(x, y)`` points.
+    shape : (int, int)
+        ``(height, width)`` of the frames.
+    origin : {"center", "corner"}, keyword-only
+        As in :func:`hough_transform`.
+
+    Returns
+    -------
+    (rho, theta_deg) : (float, float)
     """
     shape = as_shape2(shape)
     pts = _check_points(points, shape)

@@ -25,10 +25,20 @@ __all__ = ["clusters", "beta"]
 def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
     """Independent clusters of an MVM: connected components of its validation graph.
 
-    Returns a list of ``(measurements, targets)`` index arrays (measurements numbered
-    1..m as MVM rows). Targets with no validated measurement form singleton
-    clusters with no measurement; measurements validated by no target are dropped.
-    Joint events factor over clusters, so beta can be computed cluster by cluster.
+    Targets with no validated measurement form singleton clusters with no measurement;
+    measurements validated by no target are dropped. Joint events factor over clusters,
+    so beta can be computed cluster by cluster.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix (see :func:`beta`).
+
+    Returns
+    -------
+    list of (numpy.ndarray, numpy.ndarray)
+        One ``(measurements, targets)`` pair of index arrays per cluster, measurements
+        numbered 1..m as MVM rows.
     """
     w = _check_mvm(mvm)
     A = w[1:] > 0
@@ -51,41 +61,76 @@ def clusters(mvm: object) -> list[tuple[np.ndarray, np.ndarray]]:
 
 
 def beta(mvm: object, *, method: str = "auto", ops: OpCount | None = None) -> np.ndarray:
-    """Exact JPDA association probabilities ``beta_jt`` from the MVM (Secs. III.B-D).
+    r"""Exact JPDA association probabilities :math:`\beta_{jt}` from the MVM (Sections
+    III.B-D).
+
+    A feasible joint event gives each target either "no measurement" or a distinct
+    validated measurement; its weight is the product over targets of the MVM entries it
+    uses. :math:`\beta_{jt}` is the total weight of the events that give measurement
+    :math:`j` to target :math:`t`, divided by the total weight of all events (eq. 2).
 
     Parameters
     ----------
     mvm : array_like, shape (m + 1, T)
-        Modified validation matrix: row 0 holds ``1 - P_D,t`` (eq. 3), row ``j`` holds
-        ``f_t(z_j) P_D,t`` (eq. 4, optionally divided by the clutter density), zero
-        where measurement ``j`` is not validated for target ``t``.
+        Modified validation matrix. Row 0 holds the weight of "target :math:`t` has no
+        measurement": :math:`1 - P_{D,t} P_G` in the package's convention
+        (:func:`mvm_from_positions`, used by :class:`JPDATracker`), :math:`1 - P_{D,t}`
+        in the paper's eq. (3) (:func:`modified_validation_matrix`); it must lie in
+        [0, 1). Row :math:`j \ge 1` holds :math:`P_{D,t} f_t(z_j)` (eq. 4, optionally
+        divided by the clutter density), zero where measurement :math:`j` is not
+        validated for target :math:`t`.
     method : {"auto", "forward-backward", "paper", "enumerate"}
         ``"paper"`` is the algorithm exactly as published (:func:`beta_paper`,
-        ``O(T^2 m 2^m)``); ``"enumerate"`` the conventional method
+        :math:`O(T^2 m 2^m)`); ``"enumerate"`` the conventional method
         (:func:`beta_enumerated`); ``"forward-backward"`` the single-sweep exact
         method (:func:`beta_forward_backward`); ``"auto"`` (default) splits the MVM
         into independent clusters (:func:`clusters`) and runs the forward-backward
         method on each, iterating over subsets of whichever is smaller of the
-        cluster's measurements and targets.
+        cluster's measurements and targets. All four give the same probabilities.
     ops : OpCount, optional
         Operation counter passed to the chosen method.
 
     Returns
     -------
     numpy.ndarray, shape (m + 1, T)
-        ``beta[j, t]``: probability that measurement ``j`` originated from target
-        ``t``; ``beta[0, t] = 1 - sum_j beta[j, t]`` (eq. 2) the probability that target
-        ``t`` was not detected. Every column sums to 1.
+        ``beta[j, t]``: probability that measurement :math:`j` originated from target
+        :math:`t`; ``beta[0, t]`` :math:`= 1 - \sum_j \beta_{jt}` (eq. 2), the
+        probability that target :math:`t` has no measurement. Every column sums to 1.
+
+    Raises
+    ------
+    ValueError
+        If ``mvm`` is not a finite non-negative 2-D array with row 0 in [0, 1), or no
+        feasible event has positive weight.
 
     Notes
     -----
-    Complexity of ``"auto"``: ``O(sum_c max(m_c, T_c) min(m_c, T_c) 2^min(m_c, T_c))``
-    over clusters ``c``, and ``O(max(m_c, T_c) 2^min(m_c, T_c))`` memory: exponential in
-    ``min(m, T)`` for a fully gated problem. Exact JPDA computes matrix permanents, which
-    is #P-hard already for 0-1 matrices, so no polynomial-time exact method exists unless
-    FP = #P. On the 2-core
-    machine of ``benchmarks/bench_jpda.py`` a fully gated ``m = T = 16`` takes about
-    0.02 s and ``m = T = 20`` 0.5 to 1.2 s (measured while the machine ran other jobs).
+    Complexity of ``"auto"``: :math:`O(\sum_c \max(m_c, T_c) \min(m_c, T_c)
+    2^{\min(m_c, T_c)})` over clusters :math:`c`, and :math:`O(\max(m_c, T_c)
+    2^{\min(m_c, T_c)})` memory: exponential in :math:`\min(m, T)` for a fully gated
+    problem. Exact JPDA computes matrix permanents, which is #P-hard already for 0-1
+    matrices, so no polynomial-time exact method exists unless FP = #P. On the 2-core
+    machine of ``benchmarks/bench_jpda.py`` a fully gated :math:`m = T = 16` takes about
+    0.02 s and :math:`m = T = 20` 0.5 to 1.2 s (measured while the machine ran other jobs).
+
+    Examples
+    --------
+    Two targets, three measurements: measurement 2 lies in both gates.
+
+    >>> import numpy as np
+    >>> from projtrack.jpda import beta
+    >>> mvm = np.array([[0.1, 0.1],     # 1 - P_D P_G
+    ...                 [0.5, 0.0],     # measurement 1: only target 0
+    ...                 [0.3, 0.6],     # measurement 2: both
+    ...                 [0.0, 0.4]])    # measurement 3: only target 1
+    >>> b = beta(mvm)
+    >>> np.round(b, 3)
+    array([[0.136, 0.111],
+           [0.679, 0.   ],
+           [0.185, 0.444],
+           [0.   , 0.444]])
+    >>> np.allclose(b.sum(axis=0), 1)
+    True
     """
     as_choice(method, "method", ("auto", "forward-backward", "paper", "enumerate"))
     if method == "paper":

@@ -35,7 +35,7 @@ def _assignments(w: np.ndarray) -> np.ndarray:
 
 
 def beta_enumerated(mvm: object, *, ops: OpCount | None = None) -> np.ndarray:
-    """Association probabilities by enumerating every feasible event (Secs. II.B-C).
+    """Association probabilities by enumerating every feasible event (Sections II.B-C).
 
     The conventional method: every feasibility matrix of the validation matrix
     (``mvm > 0``) is generated, its probability is the product of the individual

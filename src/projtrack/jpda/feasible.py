@@ -19,7 +19,8 @@ __all__ = ["count_feasible_events", "iter_feasibility_matrices", "feasibility_ma
 
 
 def count_feasible_events(m: int, T: int) -> int:
-    """Number of feasibility matrices of an all-ones ``m x T`` validation matrix, eq. (1).
+    r"""Number of feasibility matrices of an all-ones :math:`m \times T` validation matrix,
+    equation (1).
 
     Eq. (1) of Fisher & Casasent, for ``m >= T`` (the paper swaps ``m`` and ``T``
     otherwise, and the count is symmetric)::
@@ -61,7 +62,7 @@ def count_feasible_events(m: int, T: int) -> int:
 
 def iter_feasibility_matrices(validation: np.ndarray,
                               order: str = "lexicographic") -> Iterator[np.ndarray]:
-    """Enumerate the feasibility matrices of a validation matrix (Sec. II.B).
+    """Enumerate the feasibility matrices of a validation matrix (Section II.B).
 
     Parameters
     ----------
@@ -120,8 +121,19 @@ def iter_feasibility_matrices(validation: np.ndarray,
 
 
 def feasibility_matrices(mvm: object, order: str = "lexicographic") -> list[np.ndarray]:
-    """The feasibility matrices ``Omega_i`` of an MVM's validation matrix (Fig. 2).
+    r"""The feasibility matrices :math:`\Omega_i` of an MVM's validation matrix (Figure 2).
 
     ``order`` is passed to :func:`iter_feasibility_matrices`.
+
+    Parameters
+    ----------
+    mvm : array_like, shape (m + 1, T)
+        Modified validation matrix (its zeros give the validation matrix).
+    order : {"lexicographic", "colexicographic"}
+        Order of the events, passed to :func:`iter_feasibility_matrices`.
+
+    Returns
+    -------
+    list of numpy.ndarray of int8, shape (m, T + 1)
     """
     return list(iter_feasibility_matrices(mvm_to_validation(mvm), order=order))

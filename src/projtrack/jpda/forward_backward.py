@@ -133,8 +133,10 @@ def _fb_core(W: np.ndarray, u: np.ndarray, v: np.ndarray,
         return _kernel.fb_sweep(W, u, v, ops)  # compiled, same recursions (numba)
     if W.shape[1] < 12:
         return _fb_sweep(W, u, v, ops)
-    from threadpoolctl import threadpool_limits  # a dependency of scikit-learn
-
+    try:
+        from threadpoolctl import threadpool_limits  # optional (projtrack[fast])
+    except ImportError:  # BLAS threads then stay as configured; the results are the same
+        return _fb_sweep(W, u, v, ops)
     with threadpool_limits(limits=1, user_api="blas"):
         return _fb_sweep(W, u, v, ops)
 
@@ -264,7 +266,8 @@ def _fb_sweep(W: np.ndarray, u: np.ndarray, v: np.ndarray,
 
 def beta_forward_backward(mvm: object, *, ops: OpCount | None = None,
                           reference: bool = False) -> np.ndarray:
-    """Exact beta by a forward-backward pass over subsets of ``min(m, T)`` (one cluster).
+    r"""Exact beta by a forward-backward pass over subsets of :math:`\min(m, T)` (one
+    cluster).
 
     The paper's target vectors (Sec. III.C) are the backward messages of a dynamic
     program over targets whose state is the set of measurements used; storing the

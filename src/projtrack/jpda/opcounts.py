@@ -28,6 +28,13 @@ class OpCount:
     a sum of ``n`` terms costs ``n - 1`` additions, a product of ``n`` factors
     ``n - 1`` multiplications; the final normalization (divisions) and eq. (2)
     are not counted.
+
+    Parameters
+    ----------
+    additions, multiplications : int, default 0
+        The running counts.
+    detail : dict
+        Counts by stage or kind, filled by the counting methods.
     """
 
     additions: int = 0

@@ -16,7 +16,8 @@ __all__ = ["optical_vip_schedule", "optical_vip_stage"]
 
 
 def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
-    """Time schedule of the Fig. 5 processor for one stage (vector ``q + 1`` to ``q``).
+    """Time schedule of the Figure 5 processor for one stage (vector :math:`q + 1` to
+    :math:`q`).
 
     Every product ``p_j * t_n`` of a stage is one (time slot, laser diode, AO1 cell,
     detector) event: at each time slot the laser diodes (P1) of the old vector
@@ -64,13 +65,33 @@ def optical_vip_schedule(m: int, T: int, q: int) -> np.ndarray:
 def optical_vip_stage(vec: np.ndarray, column: np.ndarray, schedule: np.ndarray,
                       n_out: int, *, noise_std: float = 0.0,
                       rng: np.random.Generator | None = None) -> np.ndarray:
-    """Simulate Fig. 5: space-integrated products time-integrated on the P3 detectors.
+    """Simulate Figure 5: space-integrated products time-integrated on the P3 detectors.
 
     Each schedule row multiplies the laser-diode amplitude ``vec[diode]`` (P1) by the
     AO1 transmittance ``column[cell]`` (P2), and the chirp routes the product to
     ``detector``; detectors integrate over the time slots. With ``noise_std > 0``
     each detector reading gets additive Gaussian noise (analog accuracy), drawn from
     ``rng``.
+
+    Parameters
+    ----------
+    vec : numpy.ndarray
+        The old vector (laser-diode amplitudes at P1).
+    column : numpy.ndarray
+        The MVM column ``(p_0, ..., p_m)`` written on AO1.
+    schedule : numpy.ndarray of int, shape (k, 4)
+        From :func:`optical_vip_schedule`.
+    n_out : int
+        Number of detectors (elements of the new vector).
+    noise_std : float, keyword-only, default 0
+        Standard deviation of the additive detector noise.
+    rng : numpy.random.Generator, keyword-only
+        Needed when ``noise_std > 0``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_out,)
+        The detector readings: the new vector.
     """
     vec = as_array(vec, "vec", ndim=1)
     column = as_array(column, "column", ndim=1)

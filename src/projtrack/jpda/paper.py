@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from projtrack._validation import as_array, as_int, as_real, as_rng
+from projtrack._validation import as_array, as_bool, as_int, as_real, as_rng
 
 from ._checks import _check_mvm, _fail_no_event, _normalize_columns
 
@@ -37,6 +37,18 @@ def mu_words(m: int, min_count: int = 0) -> np.ndarray:
     ``j_m ... j_1`` as in Table II). Words are grouped by decreasing bit count and,
     within a group, ordered as in Table II (the set not using the highest
     measurements first), and only bit counts ``>= min_count`` are kept.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements (>= 0).
+    min_count : int, default 0
+        Smallest bit count kept.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        The words, in the paper's order.
     """
     m = as_int(m, "m", minimum=0, maximum=30)  # MU words are int64 bit words
     min_count = as_int(min_count, "min_count", minimum=0)
@@ -69,26 +81,68 @@ def vector_size(m: int, T: int) -> int:
     The lower limit ``max(0, .)`` reproduces Table III; the text prints
     ``max(1, .)`` (see :func:`vector_size_text_formula`), which drops the empty word
     and disagrees with the table whenever ``m < T``.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+
+    Returns
+    -------
+    int
     """
     m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(0, m - T + 1), m + 1))
 
 
 def vector_size_text_formula(m: int, T: int) -> int:
-    """The vector length as printed in Sec. III: ``sum_{j=max(1, m-T+1)}^m C(m, j)``."""
+    r"""The vector length as printed in Section III: :math:`\sum_{j=\max(1, m-T+1)}^{m}
+    \binom{m}{j}`.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+
+    Returns
+    -------
+    int
+    """
     m, T = _check_vector_args(m, T)
     return sum(comb(m, j) for j in range(max(1, m - T + 1), m + 1))
 
 
 def stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
                  column: np.ndarray, ops: OpCount | None = None) -> np.ndarray:
-    """One in-situ stage of Sec. III.C: the vector ``T - 1`` from the vector ``T``.
+    """One in-situ stage of Section III.C: the vector :math:`T - 1` from the vector
+    :math:`T`.
 
     ``new[w] = p_0 * old[w] + sum_{j in w} p_j * old[w XOR bit_j]`` for every MU word
     ``w`` of ``words``: the XOR of ``w`` with a word of one fewer bit that leaves a
     single 1 selects the old element and the MVM entry ``p_j`` that multiplies it
     (a vector inner product per element, Fig. 4). ``vec`` is indexed like
     ``prev_words``; ``column`` is the MVM column ``(p_0, p_1, ..., p_m)``.
+
+    Parameters
+    ----------
+    vec : numpy.ndarray
+        The old vector, indexed like ``prev_words``.
+    words : numpy.ndarray of int
+        MU words of the new vector.
+    prev_words : numpy.ndarray of int
+        MU words of the old vector.
+    column : numpy.ndarray
+        The MVM column ``(p_0, p_1, ..., p_m)`` of the target.
+    ops : OpCount, optional
+        Operation counter.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(words),)
 
     Raises
     ------
@@ -156,12 +210,26 @@ def _stage_update(vec: np.ndarray, words: np.ndarray, prev_words: np.ndarray,
 
 
 def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tuple[int, str, str]]:
-    """Table II regenerated: for each MU word of the vector ``e``, the VIP expression.
+    """Table II regenerated: for each MU word of the vector :math:`e`, the VIP expression.
 
     Returns ``(word, binary, expression)`` rows in the paper's order, e.g. for
     ``m = 4`` the word ``1111`` gives ``e0(f1111) + e4(f0111) + e3(f1011) + ...``:
     the old-vector elements are named by their own MU words, as the XOR rule of
     Sec. III.C selects them.
+
+    Parameters
+    ----------
+    m : int
+        Number of measurements.
+    T : int
+        Number of targets.
+    new, old : str, default "e" and "f"
+        Names of the new and old vectors in the expressions.
+
+    Returns
+    -------
+    list of (int, str, str)
+        ``(word, binary, expression)`` rows.
     """
     m = as_int(m, "m", minimum=0)
     T = as_int(T, "T", minimum=0)
@@ -178,7 +246,8 @@ def stage_expressions(m: int, T: int, new: str = "e", old: str = "f") -> list[tu
 def beta_paper(mvm: object, *, ops: OpCount | None = None,
                store_intermediates: bool = False, vip_noise: float = 0.0,
                rng: np.random.Generator | None = None) -> np.ndarray:
-    """Association probabilities by the paper's fast algorithm (Secs. III.B-D, Fig. 4).
+    """Association probabilities by the paper's fast algorithm (Sections III.B-D, Figure
+    4).
 
     For target ``t``, columns 1 and ``t`` of the MVM are interchanged; the vector of
     the last target (``T``, Sec. III.B: ``f[w] = f_0 + sum_{j in w} f_j`` over MU
@@ -211,6 +280,7 @@ def beta_paper(mvm: object, *, ops: OpCount | None = None,
     rng : numpy.random.Generator, optional
         Required when ``vip_noise > 0``.
     """
+    store_intermediates = as_bool(store_intermediates, "store_intermediates")
     w = _check_mvm(mvm)
     m1, T = w.shape
     m = m1 - 1

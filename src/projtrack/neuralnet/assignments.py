@@ -39,7 +39,20 @@ def states_to_assignment(X: np.ndarray) -> np.ndarray | None:
 
 
 def assignment_to_states(assignment: np.ndarray, n_measurements: int) -> np.ndarray:
-    """Binary states ``(N_T, N_M, N_P)`` of an assignment ``(N_T, N_P)``."""
+    """Binary states, shape :math:`(N_T, N_M, N_P)`, of an assignment, shape :math:`(N_T,
+    N_P)`.
+
+    Parameters
+    ----------
+    assignment : array_like of int, shape (N_T, N_P)
+        ``assignment[i, a]``: the measurement of target ``i`` in frame ``a``.
+    n_measurements : int
+        ``N_M``.
+
+    Returns
+    -------
+    numpy.ndarray of int8, shape (N_T, N_M, N_P)
+    """
     A = np.asarray(assignment)
     if A.ndim != 2 or not np.issubdtype(A.dtype, np.integer):
         raise ValueError(f"assignment must be an int array (N_T, N_P), got {A.dtype} {A.shape}")
@@ -80,7 +93,8 @@ def is_correct_assignment(assignment: np.ndarray | None, labels: np.ndarray) -> 
 
 
 def assignment_cost(assignment: np.ndarray, D: np.ndarray) -> float:
-    """Summed eq. (7) distance of an assignment: term 4 of eq. (8) without ``A4``.
+    """Summed equation (7) distance of an assignment: term 4 of equation (8) without
+    :math:`A_4`.
 
     Parameters
     ----------

@@ -13,7 +13,13 @@ __all__ = ["Coefficients", "PAPER_COEFFICIENTS", "PAPER_OFFSET"]
 
 @dataclass(frozen=True)
 class Coefficients:
-    """The positive weights ``A1``-``A4`` of eq. (8)."""
+    r"""The positive weights :math:`A_1, \dots, A_4` of equation (8).
+
+    Parameters
+    ----------
+    A1, A2, A3, A4 : float, default 15, 15, 15 and 1.8
+        The weights of the four terms of eq. (8) (the paper's values), each >= 0.
+    """
 
     A1: float = 15.0
     A2: float = 15.0

@@ -31,7 +31,7 @@ def _term4_parts(X: np.ndarray, D: np.ndarray) -> np.ndarray:
 
 def energy(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None
            ) -> np.ndarray | float:
-    """The energy of eq. (8).
+    """The energy of equation (8).
 
     ``E = A1 sum_{alpha,a} sum_{i != j} X_iaa X_jaa + A2 sum_{i,a} sum_{alpha != beta} X_iaa X_iba
     + A3 sum_a (sum_{i,alpha} X_iaa - N_T)^2
@@ -70,7 +70,8 @@ def energy(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[f
 
 def energy_gradient(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None
                     ) -> np.ndarray:
-    """The derivative ``dE/dX_{i alpha a}`` of eq. (9), for all neurons at once.
+    r"""The derivative :math:`\partial E / \partial X_{i\alpha a}` of equation (9), for all
+    neurons at once.
 
     ``2 A1 sum_{j != i} X_{j alpha a} + 2 A2 sum_{beta != alpha} X_{i beta a}
     + 2 A3 (sum_{j, beta} X_{j beta a} - N_T) + A4 (the three D-terms)``; the D-terms that
@@ -100,7 +101,7 @@ def energy_gradient(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | S
 
 def energy_gradient_loops(X: np.ndarray, D: np.ndarray,
                           coefficients: Coefficients | Sequence[float] | None = None) -> np.ndarray:
-    """Eq. (9) written as the paper's nested sums, with plain Python loops.
+    """Equation (9) written as the paper's nested sums, with plain Python loops.
 
     The straightforward reference for :func:`energy_gradient` (tests and benchmarks).
 

@@ -13,7 +13,7 @@ __all__ = ["pad_measurements", "distance_tensor"]
 
 def pad_measurements(frames: Sequence[np.ndarray], n_measurements: int | None = None,
                      n_targets: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Pad frames with zero vectors to ``N_M`` measurements each (Sec. IV).
+    """Pad frames with zero vectors to :math:`N_M` measurements each (Section IV).
 
     A frame with ``M < N_M`` measurements gets ``N_M - M`` zero vectors (the centre of the
     space), as the paper does for missing measurements.
@@ -70,7 +70,7 @@ def pad_measurements(frames: Sequence[np.ndarray], n_measurements: int | None = 
 
 
 def distance_tensor(positions: np.ndarray) -> np.ndarray:
-    """The distance tensor of eq. (7) for every three consecutive frames.
+    """The distance tensor of equation (7) for every three consecutive frames.
 
     ``D[a, alpha, beta, gamma] = | d^a_{alpha beta} - d^{a+1}_{beta gamma} |`` with
     ``d^a_{alpha beta} = r^a_alpha - r^{a+1}_beta``, i.e. the norm of the second difference

@@ -52,12 +52,23 @@ class NetResult:
 
 def initial_states(rng: np.random.Generator, n_runs: int, n_targets: int, n_measurements: int,
                    n_frames: int, perturbation: float = 0.1) -> np.ndarray:
-    """Randomly perturbed all-equal start (Sec. VI, after Hopfield and Tank).
+    """Randomly perturbed all-equal start (Section VI, after Hopfield and Tank).
 
     The all-equal state gives every neuron ``1 / N_M`` (every measurement equally likely
     for every target, so that each frame sums to ``N_T``); each neuron is multiplied by
     ``1 + u`` with ``u`` uniform in ``[-perturbation, perturbation]`` (Hopfield & Tank used
     10%). The first sweep thresholds these analog values to binary ones.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Randomness of the perturbation.
+    n_runs : int
+        Number of starts (nets run side by side).
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
+    perturbation : float, default 0.1
+        Half-width of the relative uniform perturbation.
 
     Returns
     -------
@@ -78,7 +89,8 @@ def initial_states(rng: np.random.Generator, n_runs: int, n_targets: int, n_meas
 def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None, *,
             offset: float = PAPER_OFFSET, max_iter: int = 50, mode: str = "serial",
             self_coupling: bool = True, exact_energy: bool = False, record: bool = False) -> NetResult:
-    """Evolve binary neurons by eqs. (4) and (9) until convergence, a cycle or ``max_iter``.
+    """Evolve binary neurons by equations (4) and (9) until convergence, a cycle or
+    ``max_iter`` steps.
 
     Neuron ``k`` is set to 1 when ``dE/dX_k < offset`` and to 0 otherwise: the neuron's
     non-negative input ``dE/dX_k + 2 A3 N_T`` is compared with the raised threshold
@@ -113,6 +125,7 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
     -------
     NetResult
     """
+    record = as_bool(record, "record")
     c = _as_coefficients(coefficients)
     D = _check_D(D, batched=True)
     X = _check_states(X0, D)
@@ -206,7 +219,8 @@ def run_net(D: np.ndarray, X0: np.ndarray, coefficients: Coefficients | Sequence
 
 def update_inputs(X: np.ndarray, D: np.ndarray, coefficients: Coefficients | Sequence[float] | None = None, *,
                   self_coupling: bool = True, exact_energy: bool = False) -> np.ndarray:
-    """The quantity each neuron compares with the offset, under three readings of eq. (4).
+    """The quantity each neuron compares with the offset, under three readings of equation
+    (4).
 
     A neuron is switched on when its value here is below ``offset`` (0.035 in Sec. VI).
 

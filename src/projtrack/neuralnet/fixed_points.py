@@ -59,6 +59,15 @@ def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None
     ``max S < limit`` with ``limit = (offset + {0, 2 A3, A3}) / A4``, returned here (in the
     unit of D; ``-inf`` when no assignment can be a fixed point).
 
+    Parameters
+    ----------
+    coefficients : Coefficients or sequence of 4 floats, optional
+        The weights of eq. (8); default the paper's.
+    offset : float, keyword-only, default 0.035
+        The neurons' threshold.
+    self_coupling, exact_energy : bool, keyword-only
+        The reading of eq. (4), as in :func:`update_inputs`.
+
     Raises
     ------
     ValueError
@@ -81,7 +90,8 @@ def fixed_point_limit(coefficients: Coefficients | Sequence[float] | None = None
 
 
 def neuron_distance_sums(assignment: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """``S[i, a]``: the summed eq. (7) distances that neuron ``(i, assignment[i, a], a)`` sees.
+    r""":math:`S_{ia}`: the summed equation (7) distances that neuron :math:`(i,
+    \alpha_{ia}, a)` of an assignment sees.
 
     In the assignment state, term 4 of eq. (9) for the active neuron of target ``i`` in
     frame ``a`` is ``A4 S[i, a]``: the D values of the (up to three) triples of frames of
@@ -111,7 +121,8 @@ def neuron_distance_sums(assignment: np.ndarray, D: np.ndarray) -> np.ndarray:
 
 def assignment_max_sums(D: np.ndarray, n_targets: int | None = None, max_assignments: int = 2_000_000
                         ) -> np.ndarray:
-    """``max_{i,a} S[i, a]`` (:func:`neuron_distance_sums`) for every one-to-one assignment.
+    r""":math:`\max_{i,a} S_{ia}` (:func:`neuron_distance_sums`) for every one-to-one
+    assignment.
 
     Exhaustive over all ``(N_T!)^(N_P - 1)`` assignments with frame 0 labelled by the
     identity (targets are interchangeable): ``24^4 = 331776`` for the paper's case.

@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 from scipy import sparse
 
-from projtrack._validation import as_int
+from projtrack._validation import as_bool, as_int
 
 from ._checks import _check_D
 from .coefficients import Coefficients, _as_coefficients
@@ -22,12 +22,17 @@ def _flat_index(n_t: int, n_m: int, n_p: int) -> np.ndarray:
 
 def connection_matrices(n_targets: int, n_measurements: int, n_frames: int
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The fixed connection matrices ``T1``, ``T2``, ``T3`` of Sec. IV (eq. (10)).
+    """The fixed connection matrices :math:`T_1, T_2, T_3` of Section IV (equation (10)).
 
     With ``k = (i, alpha, a)`` and ``l = (j, beta, b)``:
     ``T1_kl = delta_{alpha beta} delta_ab (1 - delta_ij)`` (eq. (10)),
     ``T2_kl = delta_ij delta_ab (1 - delta_{alpha beta})`` and ``T3_kl = delta_ab``, so that
     eq. (9) is ``2 A1 T1 x + 2 A2 T2 x + 2 A3 (T3 x - N_T) + y4``.
+
+    Parameters
+    ----------
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
 
     Returns
     -------
@@ -47,7 +52,8 @@ def connection_matrices(n_targets: int, n_measurements: int, n_frames: int
 
 
 def full_tensor(D: np.ndarray, n_targets: int) -> sparse.csr_matrix:
-    """The rank-3 tensor of eq. (11) as the ``K x K^2`` matrix written on SLM2.
+    r"""The rank-3 tensor of equation (11) as the :math:`K \times K^2` matrix written on
+    SLM2.
 
     Row ``j`` holds ``D_{jkl}`` for all ``(k, l)`` (column ``k K + l``), so that
     ``y4 = A4 * D_full @ vec(x x^T)`` is term 4 of eq. (9) (eq. (12)). Stored sparse: only
@@ -79,7 +85,8 @@ def full_tensor(D: np.ndarray, n_targets: int) -> sparse.csr_matrix:
 
 
 def tensor_matrix_product(D_full: sparse.spmatrix | np.ndarray, x: np.ndarray) -> np.ndarray:
-    """The tensor-matrix inner product ``y4_j = sum_{k,l} D_jkl x_k x_l`` (eqs. (11)-(12)).
+    r"""The tensor-matrix inner product :math:`y_{4,j} = \sum_{k,l} D_{jkl} x_k x_l`
+    (equations (11)-(12)).
 
     Parameters
     ----------
@@ -103,7 +110,8 @@ def tensor_matrix_product(D_full: sparse.spmatrix | np.ndarray, x: np.ndarray) -
 
 
 def reduced_tensor(D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The paper's reduced SLM2 content: ``N_M`` matrices of size ``(N_M N_P)^2`` (Sec. V).
+    """The paper's reduced SLM2 content: :math:`N_M` matrices of size :math:`(N_M N_P)^2`
+    (Section V).
 
     Only products ``X_{i beta b} X_{i gamma c}`` of the same target enter eq. (9), and D does
     not depend on the target, so one set of matrices serves all targets. Matrix ``alpha``
@@ -147,7 +155,8 @@ def reduced_tensor(D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def reduced_tensor_product(R: np.ndarray, route: np.ndarray, x: np.ndarray, n_targets: int) -> np.ndarray:
-    """``y4`` from the reduced form: ``N_T`` per-target VOPs ``z_i z_i^T`` times the ``N_M`` matrices.
+    """:math:`y_4` from the reduced form: :math:`N_T` per-target outer products :math:`z_i
+    z_i^T` times the :math:`N_M` matrices.
 
     Parameters
     ----------
@@ -183,7 +192,8 @@ def reduced_tensor_product(R: np.ndarray, route: np.ndarray, x: np.ndarray, n_ta
 def gradient_linear_algebra(x: np.ndarray, D: np.ndarray, n_targets: int,
                             coefficients: Coefficients | Sequence[float] | None = None,
                             reduced: bool = False) -> np.ndarray:
-    """Eq. (9) as ``T x + A4 y4 - 2 A3 N_T`` with the matrices of eqs. (10)-(12).
+    """Equation (9) as :math:`T x + A_4 y_4 - 2 A_3 N_T` with the matrices of equations
+    (10)-(12).
 
     Parameters
     ----------
@@ -198,6 +208,7 @@ def gradient_linear_algebra(x: np.ndarray, D: np.ndarray, n_targets: int,
     -------
     ndarray, shape (K,)
     """
+    reduced = as_bool(reduced, "reduced")
     c = _as_coefficients(coefficients)
     D = _check_D(D)
     n_t = as_int(n_targets, "n_targets", 1)
@@ -215,7 +226,12 @@ def gradient_linear_algebra(x: np.ndarray, D: np.ndarray, n_targets: int,
 
 
 def slm_sizes(n_targets: int, n_measurements: int, n_frames: int) -> dict[str, int]:
-    """Pixel counts of the optical architecture of Sec. V.
+    """Pixel counts of the optical architecture of Section V.
+
+    Parameters
+    ----------
+    n_targets, n_measurements, n_frames : int
+        ``N_T``, ``N_M`` and ``N_P``.
 
     Returns
     -------

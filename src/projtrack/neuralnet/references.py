@@ -18,12 +18,22 @@ __all__ = ["optimal_assignment", "nearest_neighbour_assignment", "greedy_assignm
 
 def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: int = 20_000_000
                        ) -> tuple[np.ndarray, float]:
-    """Exact minimum of the summed eq. (7) cost over one-to-one assignments (``N_T = N_M``).
+    """Exact minimum of the summed equation (7) cost over one-to-one assignments
+    (:math:`N_T = N_M`).
 
     Dynamic programming (Viterbi) over pairs of consecutive frame permutations: the cost
     ``sum_i sum_a D^a(pi_a(i), pi_{a+1}(i), pi_{a+2}(i))`` couples only three consecutive
     frames. Frame 0 is labelled by the identity (targets are interchangeable). Work is
     ``N_P (N_T!)^3``: fine up to ``N_T = 5``.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7) (:func:`distance_tensor`).
+    n_targets : int, optional
+        ``N_T``; default ``N_M`` (it must equal ``N_M``).
+    max_states : int, default 20000000
+        Refuse problems whose dynamic programme would exceed this many states.
 
     Returns
     -------
@@ -69,6 +79,9 @@ def nearest_neighbour_assignment(positions: np.ndarray, n_targets: int | None = 
     Parameters
     ----------
     positions : array_like, shape (N_P, N_M, dim), ``N_M = N_T``
+        The measurements of every frame.
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
 
     Returns
     -------
@@ -93,12 +106,19 @@ def nearest_neighbour_assignment(positions: np.ndarray, n_targets: int | None = 
 
 
 def greedy_assignment(D: np.ndarray, n_targets: int | None = None) -> np.ndarray:
-    """Frame-by-frame linear assignment on the eq. (7) cost.
+    """Frame-by-frame linear assignment on the equation (7) cost.
 
     Frame 0 is the identity; frame 1 is matched by ``min_gamma D^0_{alpha beta gamma}``
     (the best continuation of each pair); every later frame ``a + 2`` is matched to the
     tracks fixed so far by ``D^a(track(a), track(a+1), gamma)``, each by
     :func:`scipy.optimize.linear_sum_assignment`.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7).
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
 
     Returns
     -------
@@ -116,12 +136,24 @@ def greedy_assignment(D: np.ndarray, n_targets: int | None = None) -> np.ndarray
 
 def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = None,
                                   n_targets: int | None = None, max_rounds: int = 100) -> tuple[np.ndarray, float]:
-    """Block-coordinate descent on the summed eq. (7) cost (a linear-assignment heuristic).
+    """Block-coordinate descent on the summed equation (7) cost (a linear-assignment
+    heuristic).
 
     With all frames but ``a`` fixed, the cost is linear in frame ``a``'s assignment
     (the three triples containing ``a``), so each frame is re-solved exactly by
     :func:`scipy.optimize.linear_sum_assignment`; rounds over all frames repeat until the
     cost stops decreasing. Starts from :func:`greedy_assignment` unless ``initial`` is given.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+        The distance tensor of eq. (7).
+    initial : array_like of int, shape (N_T, N_P), optional
+        Starting assignment; default :func:`greedy_assignment`'s.
+    n_targets : int, optional
+        ``N_T``; default ``N_M``.
+    max_rounds : int, default 100
+        Largest number of rounds over all frames.
 
     Returns
     -------

@@ -5,6 +5,8 @@ from typing import Any
 
 import numpy as np
 
+from projtrack._validation import as_bool
+
 from ._checks import as_frames, as_positive_count, as_tolerance
 from ._linalg import _eigh_desc, _sign_fix
 from .results import KLBasis
@@ -13,7 +15,8 @@ __all__ = ["vip_matrix", "correlation_matrix", "batch_kl"]
 
 
 def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
-    """The ``I x I`` matrix of vector inner products, Eq. (2) of Vermeulen & Casasent.
+    r"""The :math:`I \times I` matrix of vector inner products, Equation (2) of Vermeulen &
+    Casasent.
 
     ``v(l, m) = (1/I) (x_l - m)^T (x_m - m)`` with ``m`` the sample mean if ``center`` else 0.
 
@@ -28,6 +31,7 @@ def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
     -------
     numpy.ndarray, shape (I, I)
     """
+    center = as_bool(center, "center")
     x = as_frames(frames).reshape(len(frames), -1)
     if center:
         x = x - x.mean(axis=0)
@@ -35,10 +39,23 @@ def vip_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
 
 def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
-    """The large ``P x P`` matrix ``(1/I) sum (x_i - m)(x_i - m)^T`` (only for small images).
+    r"""The large :math:`P \times P` matrix :math:`\frac{1}{I} \sum_i (x_i - m)(x_i - m)^T`
+    (only for small images).
 
     This is the matrix whose eigen-decomposition Eqs. (2)-(3) avoid; it serves as the oracle.
+
+    Parameters
+    ----------
+    frames : array_like, shape (I, ...)
+        The frames (at most 4096 pixels each).
+    center : bool, default False
+        Subtract the mean frame :math:`m` first (otherwise :math:`m = 0`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, P)
     """
+    center = as_bool(center, "center")
     x = as_frames(frames).reshape(len(frames), -1)
     if x.shape[1] > 4096:
         raise ValueError(f"frames: {x.shape[1]} pixels per frame would give a "
@@ -50,7 +67,8 @@ def correlation_matrix(frames: Any, center: bool = False) -> np.ndarray:
 
 def batch_kl(frames: Any, center: bool = False, n_components: int | None = None,
              rtol: float = 1e-12) -> KLBasis:
-    """Batch KL expansion through the small VIP matrix, Eqs. (2)-(3) of Vermeulen & Casasent.
+    """Batch KL expansion through the small VIP matrix, Equations (2)-(3) of Vermeulen &
+    Casasent.
 
     The eigenvectors ``theta_k`` and eigenvalues ``gamma_k`` of the VIP matrix ``V`` (Eq. (2))
     give the eigenimages ``Phi_k = sum_l theta_k^l x_l / sqrt(I gamma_k)`` (Eq. (3), normalized
@@ -73,6 +91,7 @@ def batch_kl(frames: Any, center: bool = False, n_components: int | None = None,
     KLBasis
         ``eigenvalues`` (descending, positive) and unit-norm ``eigenimages`` ``(K, *shape)``.
     """
+    center = as_bool(center, "center")
     a = as_frames(frames)
     shape = a.shape[1:]
     x = a.reshape(a.shape[0], -1)

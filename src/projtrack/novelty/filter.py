@@ -16,51 +16,82 @@ __all__ = ["NoveltyFilter"]
 
 
 class NoveltyFilter:
-    """Adaptive recursive SVD novelty detector and filter (Table 1 of Vermeulen & Casasent).
+    r"""Adaptive recursive SVD novelty detector and filter (Table 1 of Vermeulen & Casasent).
+
+    Keeps the Karhunen-Loeve eigenimages of the frames seen so far. Each new frame
+    :math:`x` is tested against them: its novelty :math:`n_i = \|x - \hat x\|^2 /
+    \|x\|^2` (Eq. (7)), with :math:`\hat x` the projection of :math:`x` on the
+    eigenimages, is the fraction of its energy they do not explain; a frame is novel when
+    :math:`n_i > T_d` (Eq. (8)), and only novel frames update the eigenimages (Eq. (9))
+    and their number (Eqs. (10)-(11)). :meth:`novel_pixels` marks where a frame differs
+    from its reconstruction.
 
     Parameters
     ----------
     novelty_threshold : float in [0, 1]
-        ``T_d`` of Eq. (8): a frame is novel (and updates the model) when ``n_i > T_d``.
-        ``T_d = 0`` means every frame is used, including one that lies exactly in the span of
-        the eigenimages (``n_i = 0``): its energy still belongs to the correlation matrix.
+        :math:`T_d` of Eq. (8): a frame is novel (and updates the model) when
+        :math:`n_i > T_d`. :math:`T_d = 0` means every frame is used, including one that
+        lies exactly in the span of the eigenimages (:math:`n_i = 0`): its energy still
+        belongs to the correlation matrix.
     information_threshold : float in [0, 1]
-        ``T_I`` of Eq. (11): the smallest number of eigenimages whose information fractions
-        (Eq. (10)) sum to at least ``T_I`` is kept.  With ``T_d = 0`` and ``T_I = 1`` the
-        filter reproduces the batch eigen-decomposition of the correlation matrix of all
-        frames (up to rounding).  With ``T_I = 1`` the ``"qr"`` route keeps every fraction
-        above its rounding level (about ``1e-29``); the ``"vip"`` route drops fractions below
-        1e-12 and says so with an :class:`EigenvalueDroppedWarning` when one of them is above
-        its rounding level (about ``1e-14``).
+        :math:`T_I` of Eq. (11): the smallest number of eigenimages whose information
+        fractions (Eq. (10)) sum to at least :math:`T_I` is kept. With :math:`T_d = 0`
+        and :math:`T_I = 1` the filter reproduces the batch eigen-decomposition of the
+        correlation matrix of all frames (up to rounding). With :math:`T_I = 1` the
+        ``"qr"`` route keeps every fraction above its rounding level (about
+        :math:`10^{-29}`); the ``"vip"`` route drops fractions below :math:`10^{-12}` and
+        says so with an :class:`EigenvalueDroppedWarning` when one of them is above its
+        rounding level (about :math:`10^{-14}`).
     method : {"qr", "vip"}
-        Numerical route of the update (see the module docstring): ``"qr"`` (default) works
-        with the residual of the new frame and keeps the eigenimages orthonormal to rounding
-        even for near-duplicate frames; ``"vip"`` is the paper's bordered VIP matrix (Eqs.
-        (4)-(9)), which squares the condition number.  Both give the same VIP matrix record,
-        novelty and eigen-decomposition in exact arithmetic.
+        Numerical route of the update: ``"qr"`` (default) works with the residual of the
+        new frame and keeps the eigenimages orthonormal to rounding even for
+        near-duplicate frames; ``"vip"`` is the paper's bordered VIP matrix (Eqs.
+        (4)-(9)), which squares the condition number. Both give the same VIP matrix
+        record, novelty and eigen-decomposition in exact arithmetic.
 
     Attributes
     ----------
     eigenvalues_ : ndarray (K,)
-        Eigenvalues ``lambda_{i,k}`` of the VIP matrix ``V_i`` kept after the last update
-        (the correlation matrix of the ``i`` novel frames, Eq. (4)), descending.
+        Eigenvalues :math:`\lambda_{i,k}` of the VIP matrix :math:`V_i` kept after the
+        last update (the correlation matrix of the :math:`i` novel frames, Eq. (4)),
+        descending.
     eigenimages_ : ndarray (K, ...) shaped like the frames
-        Unit-norm eigenimages (orthonormal when flattened), pixel sum >= 0.
+        Unit-norm eigenimages (orthonormal when flattened), pixel sum :math:`\ge 0`.
     components_ : ndarray (K, n_pixels)
         The same, flattened (scikit-learn convention).
     information_fractions_ : ndarray
-        ``F_{i,k}`` of Eq. (10) over the ``K_i`` candidate eigenimages of the last update
-        (before the excess ones were discarded).
+        :math:`F_{i,k}` of Eq. (10) over the :math:`K_i` candidate eigenimages of the
+        last update (before the excess ones were discarded).
     rank_ : int
         The rank estimate of Eq. (11) after the last update (``len(eigenvalues_)``).
     vip_matrix_ : ndarray
         The VIP matrix of the last frame processed (novel or not).
     novelty_ : float
-        ``n_i`` of the last frame processed.
+        :math:`n_i` of the last frame processed.
     n_updates_ : int
-        Iteration counter ``i``: number of novel frames used (the first frame included).
+        Iteration counter :math:`i`: number of novel frames used (the first frame
+        included).
     n_frames_seen_ : int
-        Sequence counter ``j``.
+        Sequence counter :math:`j`.
+
+    Examples
+    --------
+    A static 16 x 16 background, then a bright square moving along it:
+
+    >>> import numpy as np
+    >>> from projtrack.novelty import NoveltyFilter
+    >>> background = np.random.default_rng(0).uniform(50, 100, (16, 16))
+    >>> frames = [background.copy() for _ in range(6)]
+    >>> for k in (3, 4, 5):
+    ...     frames[k][4:8, 2 * k:2 * k + 4] = 255.0
+    >>> nf = NoveltyFilter(novelty_threshold=0.001)
+    >>> [bool(nf.partial_fit(f).novel) for f in frames]
+    [True, False, False, True, True, True]
+    >>> nf.rank_
+    4
+    >>> new = background.copy(); new[10:14, 10:14] = 255.0    # the square elsewhere
+    >>> round(nf.novelty(new), 3), int(nf.novel_pixels(new).sum())
+    (0.187, 223)
     """
 
     def __init__(self, novelty_threshold: float = 0.001, information_threshold: float = 0.99,

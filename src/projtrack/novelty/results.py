@@ -21,14 +21,32 @@ class EigenvalueDroppedWarning(RuntimeWarning):
 
 
 class KLBasis(NamedTuple):
-    """Eigenvalues (descending) and unit-norm eigenimages (``(K, *frame_shape)``)."""
+    """Eigenvalues (descending) and unit-norm eigenimages, shape ``(K, *frame_shape)``.
+
+    Attributes
+    ----------
+    eigenvalues : numpy.ndarray, shape (K,)
+        Descending.
+    eigenimages : numpy.ndarray, shape (K, ...) shaped like the frames
+        Unit norm, orthonormal when flattened.
+    """
 
     eigenvalues: np.ndarray
     eigenimages: np.ndarray
 
 
 class NoveltyResult(NamedTuple):
-    """What :meth:`NoveltyFilter.partial_fit` returns: ``n_i`` (Eq. (7)) and Eq. (8)."""
+    """What :meth:`NoveltyFilter.partial_fit` returns: the novelty :math:`n_i` (Equation
+    (7)) and the decision of Equation (8).
+
+    Attributes
+    ----------
+    novelty : float
+        :math:`n_i`, the fraction of the frame's energy the eigenimages do not explain
+        (1 for the first frame).
+    novel : bool
+        Whether :math:`n_i` exceeds the novelty threshold (the frame then updated the model).
+    """
 
     novelty: float
     novel: bool
@@ -36,7 +54,7 @@ class NoveltyResult(NamedTuple):
 
 @dataclass(frozen=True)
 class FrameRecord:
-    """One frame of :func:`process_sequence` (what the panels of Figs. 2-3 show).
+    """One frame of :func:`process_sequence` (what the panels of Figures 2-3 show).
 
     Attributes
     ----------

@@ -14,7 +14,7 @@ __all__ = ["process_sequence"]
 
 def process_sequence(frames: Any, novelty_threshold: float, information_threshold: float,
                      pixel_threshold: float = 8.0, method: str = "qr") -> list[FrameRecord]:
-    """Run a :class:`NoveltyFilter` over ``frames`` and record every frame (Figs. 2-3).
+    """Run a :class:`NoveltyFilter` over ``frames`` and record every frame (Figures 2-3).
 
     Parameters
     ----------

@@ -42,8 +42,9 @@ from matplotlib.textpath import TextPath
 
 from projtrack._validation import as_array, as_choice, as_int, as_probability, as_real, as_rng
 
-__all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "font_path", "render_letter", "alphabet", "noisy",
-           "pixel_counts", "rule_grid", "choose_rule", "calibrate_rule"]
+__all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "FONTS", "font_path", "coverage_map", "render_letter",
+           "alphabet", "noisy", "pixel_counts", "rule_grid", "choose_rule", "calibrate_rule", "coverage_for_count",
+           "ENSEMBLE_CAP_HEIGHTS", "ENSEMBLE_OFFSETS", "glyph_ensemble"]
 
 #: The 26 upper-case letters in alphabetical order.
 LETTERS: str = string.ascii_uppercase
@@ -55,26 +56,106 @@ CAP_HEIGHT: float = 11.0
 MIN_COVERAGE: float = 0.25
 
 
-def font_path() -> Path:
-    """Path of matplotlib's bundled STIX regular font (``STIXGeneral.ttf``)."""
-    path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "STIXGeneral.ttf"
+#: Serif fonts that ship with matplotlib (files in its ``fonts/ttf`` folder), by name: the
+#: Times-like STIX (the default) and, for glyph ensembles, DejaVu Serif and Computer Modern.
+FONTS: dict[str, str] = {"STIX": "STIXGeneral.ttf", "DejaVu Serif": "DejaVuSerif.ttf",
+                         "Computer Modern": "cmr10.ttf"}
+
+
+def font_path(font: str = "STIX") -> Path:
+    """Path of one of matplotlib's bundled fonts of :data:`FONTS` (default: STIX, ``STIXGeneral.ttf``)."""
+    font = as_choice(font, "font", tuple(FONTS))
+    path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / FONTS[font]
     if not path.is_file():  # pragma: no cover - matplotlib always ships it
-        raise FileNotFoundError(f"matplotlib's STIX font is missing: {path}")
+        raise FileNotFoundError(f"matplotlib's {font} font is missing: {path}")
     return path
 
 
 @lru_cache(maxsize=None)
-def _glyph(letter: str) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+def _glyph(letter: str, font: str = "STIX") -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
     """Outline polygons of a glyph at font size 1 and the font's cap height."""
-    prop = FontProperties(fname=str(font_path()))
+    prop = FontProperties(fname=str(font_path(font)))
     cap = TextPath((0, 0), "H", size=1.0, prop=prop).get_extents().height
     path = TextPath((0, 0), letter, size=1.0, prop=prop)
     polys = tuple(np.asarray(p, dtype=float) for p in path.to_polygons(closed_only=True))
     return np.array([cap]), polys
 
 
+def _as_offset(offset: object) -> tuple[float, float]:
+    if not isinstance(offset, (tuple, list)) or len(offset) != 2:
+        raise ValueError(f"offset must be a pair (dx, dy) of pixel shifts, got {offset!r}")
+    return as_real(offset[0], "offset[0]", -1.0, 1.0), as_real(offset[1], "offset[1]", -1.0, 1.0)
+
+
+def coverage_map(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT, supersample: int = 8, *,
+                 font: str = "STIX", offset: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+    """Fraction of each pixel's area inside the glyph of ``letter`` (see :func:`render_letter`).
+
+    Parameters
+    ----------
+    letter, size, cap_height, supersample
+        As for :func:`render_letter`.
+    font : str, default "STIX"
+        A name of :data:`FONTS`.
+    offset : (float, float), default (0, 0)
+        Sub-pixel shift ``(dx, dy)`` of the glyph, to the right and up, in pixels (each in
+        [-1, 1]), from the position that centres its bounding box on the frame's centre.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(size, size)`` covered fractions, multiples of ``1 / supersample**2``; row 0 is
+        the top.
+    """
+    if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
+        raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
+    size = as_int(size, "size", minimum=4)
+    supersample = as_int(supersample, "supersample", minimum=1)
+    cap_height = as_real(cap_height, "cap_height", 0.0, size, low_open=True, high_open=True)
+    dx, dy = _as_offset(offset)
+    return _block_mean(_mask(letter, size, cap_height, supersample, as_choice(font, "font", tuple(FONTS)), (dx, dy)),
+                       supersample)
+
+
+def _mask(letter: str, size: int, cap_height: float, supersample: int, font: str,
+          offset: tuple[float, float]) -> np.ndarray:
+    """Sub-samples (``size * supersample`` square, row 0 at the top) inside the glyph, as floats 0/1."""
+    dx, dy = offset
+    cap, polys = _glyph(letter, font)
+    scale = float(cap_height) / float(cap[0])
+    pts = np.concatenate(polys)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre = (lo + hi) / 2
+    if np.any((hi - lo) * scale > size - 2):
+        raise ValueError(f"letter {letter!r} does not fit a {size}-pixel frame at cap_height={cap_height}")
+    # The glyph's box in pixel units (x to the right, y up; the frame spans [0, size]): only
+    # sub-samples of the pixels it touches can be inside the glyph.
+    x_lo, y_lo = (lo - centre) * scale + size / 2 + (dx, dy)
+    x_hi, y_hi = (hi - centre) * scale + size / 2 + (dx, dy)
+    c0, c1 = max(int(np.floor(x_lo)), 0), min(int(np.ceil(x_hi)), size)
+    r0, r1 = max(size - int(np.ceil(y_hi)), 0), min(size - int(np.floor(y_lo)), size)
+    sx = c0 + (np.arange((c1 - c0) * supersample) + 0.5) / supersample
+    sy = size - r0 - (np.arange((r1 - r0) * supersample) + 0.5) / supersample  # row r0 at the top
+    xx, yy = np.meshgrid(sx, sy)
+    points = np.column_stack([xx.ravel(), yy.ravel()])
+    # Glyph coordinates of each sample point.
+    glyph_pts = (points - size / 2 - (dx, dy)) / scale + centre
+    box = np.all((glyph_pts >= lo) & (glyph_pts <= hi), axis=1)
+    # Even-odd rule over all contours handles holes (A, B, D, O, P, Q, R).
+    inside_box = np.zeros(int(box.sum()), dtype=bool)
+    for poly in polys:
+        inside_box ^= MplPath(poly).contains_points(glyph_pts[box])
+    inside = np.zeros(len(points), dtype=bool)
+    inside[box] = inside_box
+    mask = np.zeros((size * supersample, size * supersample))
+    mask[r0 * supersample:r1 * supersample, c0 * supersample:c1 * supersample] = inside.reshape(
+        (r1 - r0) * supersample, (c1 - c0) * supersample)
+    return mask
+
+
 def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
-                  min_coverage: float = MIN_COVERAGE, supersample: int = 8) -> np.ndarray:
+                  min_coverage: float = MIN_COVERAGE, supersample: int = 8, *, font: str = "STIX",
+                  offset: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """Rasterize one upper-case letter to a binary ``size x size`` image.
 
     Parameters
@@ -89,6 +170,10 @@ def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
         A pixel is on when at least this fraction of its sub-samples is inside the glyph.
     supersample : int, default 8
         Sub-samples per pixel side used to measure the covered area.
+    font : str, default "STIX"
+        A name of :data:`FONTS`.
+    offset : (float, float), default (0, 0)
+        Sub-pixel shift of the glyph (see :func:`coverage_map`).
 
     Returns
     -------
@@ -98,43 +183,19 @@ def render_letter(letter: str, size: int = 32, cap_height: float = CAP_HEIGHT,
     Raises
     ------
     ValueError
-        If ``letter`` is not one upper-case ASCII letter, or the glyph does not fit.
+        If ``letter`` is not one upper-case ASCII letter, the glyph does not fit (with a
+        margin of one pixel), or an argument is out of range.
     """
-    if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
-        raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
-    size = as_int(size, "size", minimum=4)
-    supersample = as_int(supersample, "supersample", minimum=1)
-    cap_height = as_real(cap_height, "cap_height", 0.0, size, low_open=True, high_open=True)
     min_coverage = as_probability(min_coverage, "min_coverage", low_open=True)
-    cap, polys = _glyph(letter)
-    scale = float(cap_height) / float(cap[0])
-    pts = np.concatenate(polys)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    centre = (lo + hi) / 2
-    if np.any((hi - lo) * scale > size):
-        raise ValueError(f"letter {letter!r} does not fit a {size}-pixel frame at cap_height={cap_height}")
-    # Sub-sample points (x to the right, y up) in pixel units; frame spans [0, size].
-    s = (np.arange(size * supersample) + 0.5) / supersample
-    xx, yy = np.meshgrid(s, s[::-1])  # row 0 of the image is the top (largest y)
-    points = np.column_stack([xx.ravel(), yy.ravel()])
-    # Glyph coordinates of each sample point.
-    glyph_pts = (points - size / 2) / scale + centre
-    # Only points inside the glyph's bounding box can be inside the glyph.
-    box = np.all((glyph_pts >= lo) & (glyph_pts <= hi), axis=1)
-    # Even-odd rule over all contours handles holes (A, B, D, O, P, Q, R).
-    inside_box = np.zeros(int(box.sum()), dtype=bool)
-    for poly in polys:
-        inside_box ^= MplPath(poly).contains_points(glyph_pts[box])
-    inside = np.zeros(len(points), dtype=bool)
-    inside[box] = inside_box
-    cover = inside.reshape(size, supersample, size, supersample).mean(axis=(1, 3))
+    cover = coverage_map(letter, size, cap_height, supersample, font=font, offset=offset)
     return (cover >= min_coverage - 1e-12).astype(float)
 
 
 def alphabet(size: int = 32, cap_height: float = CAP_HEIGHT, min_coverage: float = MIN_COVERAGE,
-             supersample: int = 8) -> np.ndarray:
+             supersample: int = 8, *, font: str = "STIX", offset: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """All 26 letters, :func:`render_letter` of ``A``..``Z``, shape ``(26, size, size)``."""
-    return np.stack([render_letter(c, size, cap_height, min_coverage, supersample) for c in LETTERS])
+    return np.stack([render_letter(c, size, cap_height, min_coverage, supersample, font=font, offset=offset)
+                     for c in LETTERS])
 
 
 def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
@@ -213,6 +274,85 @@ def calibrate_rule(grid: list[dict[str, float]] | None = None, *, letter: str = 
         raise ValueError(f"no candidate rule gives {letter!r} exactly {pixels} pixels with every letter under 110")
     best = max(ok, key=lambda g: (g["n_in_40_75"], -g["cap_height"], g["min_coverage"]))
     return best["cap_height"], best["min_coverage"]
+
+
+def coverage_for_count(cover: np.ndarray, pixels: int) -> float:
+    """The coverage threshold that turns on exactly ``pixels`` pixels of a :func:`coverage_map`.
+
+    The threshold is the ``pixels``-th largest covered fraction; it is NaN when no
+    threshold in (0, 1] gives exactly that count (a tie at the boundary, or too few
+    pixels touched by the glyph).
+    """
+    cover = as_array(cover, "cover", ndim=2, allow_empty=False)
+    pixels = as_int(pixels, "pixels", minimum=1)
+    v = np.sort(cover.ravel())[::-1]
+    if pixels > v.size or v[pixels - 1] <= 0 or (pixels < v.size and v[pixels] == v[pixels - 1]):
+        return float("nan")
+    return float(v[pixels - 1])
+
+
+#: Cap heights (pixels) of the default glyph ensemble: around the "central 10 x 10 pixels".
+ENSEMBLE_CAP_HEIGHTS: tuple[float, ...] = (9.5, 10.0, 10.5, 11.0, 11.5, 12.0)
+
+#: Sub-pixel shifts (pixels, along each axis) of the default glyph ensemble.
+ENSEMBLE_OFFSETS: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75)
+
+
+def glyph_ensemble(fonts: tuple[str, ...] = tuple(FONTS), cap_heights: tuple[float, ...] = ENSEMBLE_CAP_HEIGHTS,
+                   offsets: tuple[float, ...] = ENSEMBLE_OFFSETS, *, letter: str = "C", pixels: int = 43,
+                   supersample: int = 8) -> list[dict[str, object]]:
+    """Glyph sets that all give ``letter`` exactly ``pixels`` pixels (Sec. III.B: C has 43).
+
+    The printed pixel count pins how many pixels the C has, not the font, its size or its
+    position on the grid. For every font of ``fonts``, cap height and sub-pixel shift
+    ``(dx, dy)`` (both from ``offsets``), the coverage threshold is the one that gives
+    ``letter`` exactly ``pixels`` pixels (:func:`coverage_for_count`; a combination with
+    no such threshold is left out), and the same rule renders all 26 letters.
+
+    Returns
+    -------
+    list of dict
+        One dict per combination with a threshold: ``font``, ``cap_height``, ``dx``,
+        ``dy``, ``min_coverage``, ``n_in_40_75`` (letters with 40-75 pixels), ``max``
+        (the largest count) and ``fits`` (every letter under 110 pixels and most, at
+        least 14 of 26, in 40-75: the description of Sec. III.A).
+    """
+    if not fonts or not cap_heights or not offsets:
+        raise ValueError("fonts, cap_heights and offsets must not be empty")
+    fonts = tuple(as_choice(f, "fonts", tuple(FONTS)) for f in fonts)
+    pixels = as_int(pixels, "pixels", minimum=1)
+    supersample = as_int(supersample, "supersample", minimum=1)
+    steps = [as_real(v, "offsets", -1.0, 1.0) * supersample for v in offsets]
+    if any(abs(v - round(v)) > 1e-9 for v in steps):
+        raise ValueError(f"offsets must be multiples of 1/supersample = {1 / supersample:g}, got {offsets!r}")
+    out: list[dict[str, object]] = []
+    for font in fonts:
+        for cap in cap_heights:
+            # sub-sample masks at offset (0, 0); a shift by whole sub-samples moves them exactly
+            masks = {ch: _subsample_mask(ch, 32, float(cap), supersample, font) for ch in LETTERS}
+            for dx, sx in zip(offsets, steps):
+                for dy, sy in zip(offsets, steps):
+                    covers = {ch: _block_mean(np.roll(m, (-int(round(sy)), int(round(sx))), axis=(0, 1)), supersample)
+                              for ch, m in masks.items()}
+                    t = coverage_for_count(covers[letter], pixels)
+                    if not np.isfinite(t):
+                        continue
+                    counts = np.array([int(np.sum(covers[ch] >= t - 1e-12)) for ch in LETTERS])
+                    n_in = int(np.sum((counts >= 40) & (counts <= 75)))
+                    out.append({"font": font, "cap_height": float(cap), "dx": float(dx), "dy": float(dy),
+                                "min_coverage": t, "n_in_40_75": n_in, "max": int(counts.max()),
+                                "fits": bool(counts.max() < 110 and n_in >= 14)})
+    return out
+
+
+def _subsample_mask(letter: str, size: int, cap_height: float, supersample: int, font: str) -> np.ndarray:
+    """Which sub-samples of a ``size x size`` frame lie inside the glyph (offset 0), as floats 0/1."""
+    return _mask(letter, size, cap_height, supersample, font, (0.0, 0.0))
+
+
+def _block_mean(mask: np.ndarray, supersample: int) -> np.ndarray:
+    n = mask.shape[0] // supersample
+    return mask.reshape(n, supersample, n, supersample).mean(axis=(1, 3))
 
 
 def pixel_counts(images: np.ndarray) -> np.ndarray:

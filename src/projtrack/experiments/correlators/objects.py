@@ -8,11 +8,16 @@
 * :func:`random_scene_study` runs the detector on random scenes (Monte Carlo);
 * :func:`switching_pair`, :func:`ideal_ghosts`, :func:`unique_from_projections` and
   :func:`ideal_detector_study` ask the same question with an ideal detector (discrete
-  tomography: which point sets do a few projections determine).
+  tomography: which point sets do a few projections determine);
+* :func:`lines_ghost_free`, :func:`unique_from_lines` and :func:`ideal_count_study` do it for
+  any number of objects and any of the lattice directions 0, 90, 45 and 135 degrees;
+* :func:`energy_count_study`: the object count from the energy of the 2-D and of the
+  projection correlation planes, for 1 to 5 objects, with and without noise.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from itertools import combinations
 
@@ -25,7 +30,8 @@ from projtrack._validation import as_array, as_int, as_real, as_rng, as_shape2
 
 __all__ = ["place_objects", "energy_count", "match_positions", "random_positions", "random_scene_study",
            "switching_pair", "ideal_ghosts", "unique_from_projections", "ideal_detector_study",
-           "IDEAL_KEYS"]
+           "IDEAL_KEYS", "LINE_KEYS", "lines_ghost_free", "unique_from_lines", "ideal_count_study",
+           "energy_count_study"]
 
 #: (tolerance in pixels, diagonal) of the columns of :func:`ideal_detector_study`.
 IDEAL_KEYS: tuple[tuple[int, str], ...] = tuple((tol, k) for tol in (0, 1) for k in ("45", "135"))
@@ -232,3 +238,177 @@ def ideal_detector_study(n_scenes: int, rng: np.random.Generator) -> np.ndarray:
     """
     n_scenes = as_int(n_scenes, "n_scenes", minimum=1)
     return np.array(montecarlo.run(_ideal_trial, n_scenes, as_rng(rng)), dtype=bool)
+
+
+#: The line through pixel (row, col) along each lattice projection direction, as an integer key:
+#: 0 degrees (vertical projection) the column, 90 the row, 45 ``col - row``, 135 ``col + row``
+#: (rows counted downwards, so 45 degrees with y up runs along ``col - row`` constant).
+LINE_KEYS = {0: lambda r, q: q, 90: lambda r, q: r, 45: lambda r, q: q - r, 135: lambda r, q: q + r}
+
+
+def _as_directions(angles: object) -> tuple[int, ...]:
+    try:
+        out = tuple(int(a) for a in angles)  # type: ignore[union-attr]
+    except (TypeError, ValueError):
+        raise TypeError(f"angles must be a sequence of lattice angles, got {angles!r}") from None
+    if not out or any(a not in LINE_KEYS for a in out) or len(set(out)) != len(out):
+        raise ValueError(f"angles must be distinct angles among {tuple(LINE_KEYS)}, got {angles!r}")
+    return out
+
+
+def lines_ghost_free(positions: Sequence[tuple[int, int]], angles: Sequence[int], tol: int = 0) -> bool:
+    """Whether the backprojection of ideal projections (exact line positions) finds only the objects.
+
+    A row/column crossing is a candidate when a line of every other direction of ``angles``
+    through it holds an object (within ``tol``); the set is ghost-free when every candidate
+    is an object. Rows (90) and columns (0) must both be among ``angles``; with fewer
+    directions every point of an object's line is a candidate, so there are ghosts.
+    """
+    pos = _as_positions(positions)
+    angles = _as_directions(angles)
+    tol = as_int(tol, "tol", minimum=0)
+    if not {0, 90} <= set(angles):
+        return False
+    rest = [a for a in angles if a not in (0, 90)]
+    keys = {a: [LINE_KEYS[a](*p) for p in pos] for a in rest}
+    objects = set(pos)
+    for r in {p[0] for p in pos}:
+        for q in {p[1] for p in pos}:
+            if (r, q) not in objects and all(any(abs(LINE_KEYS[a](r, q) - k) <= tol for k in keys[a]) for a in rest):
+                return False
+    return True
+
+
+def unique_from_lines(positions: Sequence[tuple[int, int]], angles: Sequence[int]) -> bool:
+    """Whether ``positions`` is the only point set of its size with its line counts along ``angles``.
+
+    The line counts are how many objects each line of each direction holds (what the
+    amplitudes of the projection correlation peaks give). Rows (90) and columns (0) must
+    both be among ``angles``; with fewer directions a point set is never determined.
+    """
+    pos = _as_positions(positions)
+    angles = _as_directions(angles)
+    if not {0, 90} <= set(angles):
+        return False
+    target = {a: Counter(LINE_KEYS[a](*p) for p in pos) for a in angles}
+    cols = sorted(target[0])
+    rows = sorted(target[90])
+    solutions = 0
+
+    def extend(i: int, counts: dict[int, Counter]) -> None:
+        nonlocal solutions
+        if solutions > 1:
+            return
+        if i == len(rows):
+            if all(counts[a] == target[a] for a in angles):
+                solutions += 1
+            return
+        r = rows[i]
+        for chosen in combinations(cols, target[90][r]):
+            new = {a: counts[a].copy() for a in angles}
+            ok = True
+            for q in chosen:
+                for a in angles:
+                    k = LINE_KEYS[a](r, q)
+                    new[a][k] += 1
+                    if new[a][k] > target[a].get(k, 0):
+                        ok = False
+            if ok:
+                extend(i + 1, new)
+
+    extend(0, {a: Counter() for a in angles})
+    return solutions == 1
+
+
+def _count_trial(rng, n_objects, angle_sets, tols):
+    out = []
+    for n in n_objects:
+        pos = random_positions(rng, n)
+        out.append([[unique_from_lines(pos, angles)] + [lines_ghost_free(pos, angles, t) for t in tols]
+                     for angles in angle_sets])
+    return out
+
+
+def ideal_count_study(n_objects: Sequence[int], angle_sets: Sequence[Sequence[int]], n_scenes: int,
+                      rng: np.random.Generator, *, tols: Sequence[int] = (0, 1)) -> np.ndarray:
+    """Random scenes of several object counts judged with an ideal detector.
+
+    Every trial draws, for every count of ``n_objects``, one scene of that many objects
+    (:func:`random_positions`: at least 10 pixels apart in a 64-pixel field) and asks, for
+    every set of directions of ``angle_sets``: is the point set the only one with its line
+    counts (:func:`unique_from_lines`), and is the backprojection ghost-free for each
+    tolerance of ``tols`` (:func:`lines_ghost_free`). Trials run through
+    :func:`projtrack.montecarlo.run`.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (n_scenes, len(n_objects), len(angle_sets), 1 + len(tols))
+    """
+    n_objects = [as_int(n, "n_objects", minimum=1) for n in n_objects]
+    angle_sets = [_as_directions(a) for a in angle_sets]
+    tols = [as_int(t, "tols", minimum=0) for t in tols]
+    if not n_objects or not angle_sets:
+        raise ValueError("n_objects and angle_sets must not be empty")
+    n_scenes = as_int(n_scenes, "n_scenes", minimum=1)
+    return np.array(montecarlo.run(_count_trial, n_scenes, as_rng(rng), n_objects, angle_sets, tols), dtype=bool)
+
+
+def _energy_trial(rng, template, counts, sigma, field, min_separation, angles, ones):
+    h = template.shape[0] // 2
+    t = template - template.mean()
+    out = []
+    for k in counts:
+        pos = random_positions(rng, k, low=h, high=field - h, min_separation=min_separation)
+        scene = place_objects(template, pos, (field, field))
+        if sigma > 0:
+            scene = scene + rng.normal(0.0, sigma, size=scene.shape)
+        scene = scene - scene.mean()
+        planes = [C.correlate2d(scene, t)] + [C.projection_correlation(scene, t, a) for a in angles]
+        noise = [sigma ** 2 * field ** 2 * float(np.sum(t * t))]
+        noise += [sigma ** 2 * field ** 2 * float(np.sum(C.project(t, a) ** 2)) for a in angles]
+        out.append([(float(np.sum(p * p)) - nz) / e1 for p, nz, e1 in zip(planes, noise, ones)])
+    return out
+
+
+def energy_count_study(template: np.ndarray, counts: Sequence[int], n_scenes: int, rng: np.random.Generator, *,
+                       sigma: float = 0.0, field: int = 64, min_separation: int | None = None,
+                       angles: Sequence[float] = (90, 0)) -> np.ndarray:
+    """Object counts estimated from correlation-plane energies (Sec. V), for scenes of 1 to K objects.
+
+    Each scene holds ``k`` copies of the odd-sized square ``template`` at random positions
+    at least ``min_separation`` apart (default: the template side, so that copies do not
+    overlap) in a ``field x field`` frame, plus white Gaussian noise ``sigma``, made zero
+    mean. The estimate is the energy of the scene's correlation plane with the zero-mean
+    template, less the expected noise energy ``sigma^2 field^2 E`` (``E`` the energy of the
+    zero-mean template or of its projection), over the energy of one noise-free copy's
+    plane; for the 2-D plane and for the projection correlations at ``angles``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_scenes, len(counts), 1 + len(angles))
+        The estimates: 2-D plane first, then one per angle.
+    """
+    template = as_array(template, "template", ndim=2, allow_empty=False)
+    if template.shape[0] != template.shape[1] or template.shape[0] % 2 == 0:
+        raise ValueError(f"template must be square with an odd side, got shape {template.shape}")
+    counts = [as_int(k, "counts", minimum=1) for k in counts]
+    if not counts:
+        raise ValueError("counts must not be empty")
+    n_scenes = as_int(n_scenes, "n_scenes", minimum=1)
+    sigma = as_real(sigma, "sigma", 0.0)
+    field = as_int(field, "field", minimum=template.shape[0])
+    min_separation = template.shape[0] if min_separation is None else as_int(min_separation, "min_separation",
+                                                                              minimum=0)
+    angles = tuple(as_real(a, "angles") for a in angles)
+    t = template - template.mean()
+    if not np.any(t):
+        raise ValueError("template must not be constant")
+    h = template.shape[0] // 2
+    one = place_objects(template, [(field // 2, field // 2)], (field, field))
+    one = one - one.mean()
+    ones = [float(np.sum(C.correlate2d(one, t) ** 2))]
+    ones += [float(np.sum(C.projection_correlation(one, t, a) ** 2)) for a in angles]
+    if (field - 2 * h - 1) // max(min_separation, 1) + 1 < 2 and max(counts) > 1:
+        raise ValueError("the field is too small for two objects at the required separation")
+    return np.array(montecarlo.run(_energy_trial, n_scenes, as_rng(rng), template, counts, sigma, field,
+                                   min_separation, angles, ones))

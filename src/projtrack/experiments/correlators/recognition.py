@@ -1,14 +1,18 @@
 """The 26-letter recognition test of Sec. III.C as Monte Carlo studies of noisy letters.
 
 * :func:`noise_sweep`: correctness of several filter banks on every letter over a grid of
-  noise levels, plus the reference bank under the two readings of "uniform" noise;
-* :func:`noise_extent_study`: correctness of one bank when the noise covers only the
-  central part of the image, under several noise laws, and of its summed-output rule;
+  noise levels;
+* :func:`recognition_study`: correctness of the paper's bank on several glyph sets (one
+  alphabet each) and noise laws, by the sum of separate peaks (Sec. III.C) and by the
+  summed detector output of the frequency-multiplexed correlator (Sec. IV);
+* :func:`margin_study`: the difference between the true class's score and the best false
+  one, per projection, for several banks (does a 45-degree filter widen it?);
 * :func:`predictor_accuracy`: correctness of any classifiers (banks, baselines) over a
-  grid of Gaussian noise levels, all on the same noisy images.
+  grid of noise levels, all on the same noisy images.
 
-Each trial draws one noisy copy of every letter (:func:`projtrack.scenes.letters.noisy`)
-per noise level; trials run through :func:`projtrack.montecarlo.run`.
+Each trial draws one noisy copy of every letter (:func:`projtrack.scenes.letters.noisy`,
+noise over the central ``extent x extent`` pixels, then the image made zero mean) per noise
+level; trials run through :func:`projtrack.montecarlo.run`.
 """
 
 from __future__ import annotations
@@ -21,7 +25,10 @@ from projtrack import montecarlo
 from projtrack._validation import as_array, as_choice, as_int, as_real, as_rng
 from projtrack.scenes import letters
 
-__all__ = ["noise_sweep", "noise_extent_study", "predictor_accuracy"]
+__all__ = ["noise_sweep", "recognition_study", "RULES", "margin_study", "predictor_accuracy"]
+
+#: The two classification rules of :func:`recognition_study`.
+RULES: tuple[str, ...] = ("sum of peaks", "summed output")
 
 
 def _check_bank(bank: object, name: str) -> None:
@@ -37,28 +44,34 @@ def _check_images(images: object, labels: object) -> tuple[np.ndarray, np.ndarra
     return images, labels
 
 
-def _sweep_trial(rng, banks, images, labels, sigmas, reference):
-    out = np.zeros((len(sigmas), len(banks) + 2, len(images)), dtype=bool)
+def _check_sigmas(sigmas: object) -> np.ndarray:
+    sig = as_array(sigmas, "sigmas", ndim=1, allow_empty=False)
+    if np.any(sig < 0):
+        raise ValueError(f"sigmas must be >= 0, got {sig}")
+    return sig
+
+
+def _check_extent(extent: object) -> int | None:
+    return None if extent is None else as_int(extent, "extent", minimum=1)
+
+
+def _sweep_trial(rng, banks, images, labels, sigmas, extent, distribution):
+    out = np.zeros((len(sigmas), len(banks), len(images)), dtype=bool)
     for j, s in enumerate(sigmas):
-        X = letters.noisy(images, float(s), rng)[0]
+        X = letters.noisy(images, float(s), rng, extent=extent, distribution=distribution)[0]
         for c, clf in enumerate(banks.values()):
             out[j, c] = clf.predict(X) == labels
-        Xu = letters.noisy(images, float(s), rng, distribution="uniform")[0]
-        out[j, len(banks)] = banks[reference].predict(Xu) == labels
-        Xr = letters.noisy(images, float(s) / np.sqrt(3), rng, distribution="uniform")[0]
-        out[j, len(banks) + 1] = banks[reference].predict(Xr) == labels
     return out
 
 
 def noise_sweep(banks: Mapping[str, object], images: np.ndarray, labels: Sequence[object],
                 sigmas: Sequence[float], n_draws: int, rng: np.random.Generator, *,
-                reference: str) -> np.ndarray:
-    """Which letters each bank gets right, over a grid of Gaussian noise levels.
+                extent: int | None = None, distribution: str = "gaussian") -> np.ndarray:
+    """Which letters each bank gets right, over a grid of noise levels.
 
-    Every trial and noise level draws one copy of every image with Gaussian noise of
-    standard deviation sigma over the whole image (zero-mean after the noise, as in
-    Sec. III.B) for all ``banks``; then the ``reference`` bank also sees uniform noise of
-    standard deviation sigma, and uniform noise on ``[-sigma, sigma]``.
+    Every trial and noise level draws one noisy copy of every image (noise of standard
+    deviation sigma over the central ``extent x extent`` pixels, ``None`` for the whole
+    image; zero-mean after the noise, as in Sec. III.B), classified by all ``banks``.
 
     Parameters
     ----------
@@ -74,103 +87,161 @@ def noise_sweep(banks: Mapping[str, object], images: np.ndarray, labels: Sequenc
         Trials (noisy copies of every image per level).
     rng : numpy.random.Generator
         Parent generator of the trials.
-    reference : str
-        Name of the bank that also sees the uniform noises.
+    extent : int, optional
+        Side of the central square that receives noise.
+    distribution : {"gaussian", "uniform"}
+        The noise law (:func:`projtrack.scenes.letters.noisy`).
 
     Returns
     -------
-    numpy.ndarray of bool, shape (n_draws, len(sigmas), len(banks) + 2, n)
-        Correct or not, per trial, level, column (the banks in order, then the two
-        uniform readings) and image.
+    numpy.ndarray of bool, shape (n_draws, len(sigmas), len(banks), n)
+        Correct or not, per trial, level, bank and image.
     """
     if not banks:
         raise ValueError("banks must not be empty")
     for k, b in banks.items():
         _check_bank(b, f"banks[{k!r}]")
-    reference = as_choice(reference, "reference", tuple(banks))
     images, labels_arr = _check_images(images, labels)
-    sig = as_array(sigmas, "sigmas", ndim=1, allow_empty=False)
-    if np.any(sig < 0):
-        raise ValueError(f"sigmas must be >= 0, got {sig}")
+    sig = _check_sigmas(sigmas)
     n_draws = as_int(n_draws, "n_draws", minimum=1)
-    res = montecarlo.run(_sweep_trial, n_draws, as_rng(rng), dict(banks), images, labels_arr, sig, reference)
+    distribution = as_choice(distribution, "distribution", ("gaussian", "uniform"))
+    res = montecarlo.run(_sweep_trial, n_draws, as_rng(rng), dict(banks), images, labels_arr, sig,
+                         _check_extent(extent), distribution)
     return np.array(res)
 
 
-def _extent_trial(rng, bank, images, labels, sigmas, extents, laws, summed_sigmas):
-    out = np.zeros((len(extents) * len(laws), len(sigmas), len(images)), dtype=bool)
-    summed = np.zeros((len(extents), len(summed_sigmas), len(images)), dtype=bool)
-    for i, (e, (law, f)) in enumerate((e, v) for e in extents for v in laws.values()):
-        for j, s in enumerate(sigmas):
-            X = letters.noisy(images, float(s) * f, rng, extent=e, distribution=law)[0]
-            out[i, j] = bank.predict(X) == labels
-            if law == "gaussian" and float(s) in summed_sigmas:
-                summed[extents.index(e), summed_sigmas.index(float(s))] = (
-                    bank.classes_[np.argmax(bank.summed_output_scores(X), axis=1)] == labels)
-    return out, summed
+def _study_trial(rng, banks, images, labels, sigmas, laws, extent):
+    out = np.zeros((len(banks), len(laws), len(sigmas), len(RULES), images.shape[1]), dtype=bool)
+    for a, (bank, imgs) in enumerate(zip(banks, images)):
+        for k, law in enumerate(laws):
+            for j, s in enumerate(sigmas):
+                X = letters.noisy(imgs, float(s), rng, extent=extent, distribution=law)[0]
+                out[a, k, j, 0] = bank.predict(X) == labels
+                out[a, k, j, 1] = bank.classes_[np.argmax(bank.summed_output_scores(X), axis=1)] == labels
+    return out
 
 
-def noise_extent_study(bank: object, images: np.ndarray, labels: Sequence[object], sigmas: Sequence[float],
-                       extents: Sequence[int], laws: Mapping[str, tuple[str, float]],
-                       summed_sigmas: Sequence[float], n_draws: int,
-                       rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """Which letters one bank gets right when the noise covers only the central ``extent x extent``.
+def recognition_study(banks: Sequence[object], alphabets: np.ndarray, labels: Sequence[object],
+                      sigmas: Sequence[float], laws: Sequence[str], n_draws: int, rng: np.random.Generator, *,
+                      extent: int | None = None) -> np.ndarray:
+    """Which letters the paper's bank gets right, per glyph set, noise law, level and rule.
 
-    For every extent and noise law (``laws``: name -> ``(distribution, factor)``, the
-    noise standard deviation being ``factor * sigma``; ``distribution`` as in
-    :func:`projtrack.scenes.letters.noisy`) and every sigma, one noisy copy of every
-    image is classified. On the Gaussian readings at the ``summed_sigmas`` the
-    summed-output rule (:meth:`~projtrack.correlators.ProjectionCorrelationClassifier.summed_output_scores`)
-    is scored as well.
+    Parameters
+    ----------
+    banks : sequence of fitted ProjectionCorrelationClassifier
+        One bank per glyph set, fitted on that glyph set's letters.
+    alphabets : array_like, shape (len(banks), n, H, W)
+        The clean letters of each glyph set.
+    labels : sequence, length n
+        The true label of each letter.
+    sigmas : sequence of float
+        Noise levels (standard deviations, >= 0).
+    laws : sequence of {"gaussian", "uniform"}
+        Noise laws (uniform noise of the same standard deviation).
+    n_draws : int
+        Trials; each draws one noisy copy of every letter per glyph set, law and level.
+    rng : numpy.random.Generator
+        Parent generator of the trials.
+    extent : int, optional
+        Side of the central square that receives noise (``None``: the whole image).
 
     Returns
     -------
-    ok : numpy.ndarray of bool, shape (n_draws, len(extents) * len(laws), len(sigmas), n)
-        Readings ordered extent-major (every law of the first extent first).
-    summed : numpy.ndarray of bool, shape (n_draws, len(extents), len(summed_sigmas), n)
+    numpy.ndarray of bool, shape (n_draws, len(banks), len(laws), len(sigmas), 2, n)
+        Correct or not by the sum of separate peaks (the bank's ``predict``, Sec. III.C)
+        and by the summed detector output (``summed_output_scores``, Sec. IV), in the
+        order of :data:`RULES`.
     """
-    _check_bank(bank, "bank")
-    if not hasattr(bank, "summed_output_scores"):
-        raise TypeError("bank must have summed_output_scores (a ProjectionCorrelationClassifier)")
-    images, labels_arr = _check_images(images, labels)
-    sig = as_array(sigmas, "sigmas", ndim=1, allow_empty=False)
-    if np.any(sig < 0):
-        raise ValueError(f"sigmas must be >= 0, got {sig}")
-    extents = tuple(as_int(e, "extents", minimum=1) for e in extents)
-    if not extents or not laws:
-        raise ValueError("extents and laws must not be empty")
-    laws = {str(k): (as_choice(d, f"laws[{k!r}]", ("gaussian", "uniform")), as_real(f, f"laws[{k!r}]", 0.0))
-            for k, (d, f) in laws.items()}
-    summed_sigmas = tuple(as_real(s, "summed_sigmas", 0.0) for s in summed_sigmas)
+    banks = list(banks)
+    if not banks:
+        raise ValueError("banks must not be empty")
+    for i, b in enumerate(banks):
+        _check_bank(b, f"banks[{i}]")
+        if not hasattr(b, "summed_output_scores"):
+            raise TypeError(f"banks[{i}] must be a ProjectionCorrelationClassifier (with summed_output_scores)")
+    alphabets = as_array(alphabets, "alphabets", ndim=4, allow_empty=False)
+    if len(alphabets) != len(banks):
+        raise ValueError(f"alphabets must hold one alphabet per bank ({len(banks)}), got {len(alphabets)}")
+    _, labels_arr = _check_images(alphabets[0], labels)
+    sig = _check_sigmas(sigmas)
+    laws = [as_choice(law, "laws", ("gaussian", "uniform")) for law in laws]
+    if not laws:
+        raise ValueError("laws must not be empty")
     n_draws = as_int(n_draws, "n_draws", minimum=1)
-    res = montecarlo.run(_extent_trial, n_draws, as_rng(rng), bank, images, labels_arr, sig, extents, laws,
-                         summed_sigmas)
-    return np.array([r[0] for r in res]), np.array([r[1] for r in res])
+    res = montecarlo.run(_study_trial, n_draws, as_rng(rng), banks, alphabets, labels_arr, sig, laws,
+                         _check_extent(extent))
+    return np.array(res)
 
 
-def _predictor_trial(rng, predictors, images, labels, sigmas):
+def _margin_trial(rng, banks, images, labels, sigmas, extent):
+    out = np.zeros((len(sigmas), len(banks), len(images)))
+    for j, s in enumerate(sigmas):
+        X = letters.noisy(images, float(s), rng, extent=extent)[0]
+        for b, bank in enumerate(banks):
+            scores = bank.decision_function(X) / len(bank.angles)
+            idx = np.searchsorted(bank.classes_, labels)
+            true = scores[np.arange(len(X)), idx]
+            others = scores.copy()
+            others[np.arange(len(X)), idx] = -np.inf
+            out[j, b] = true - others.max(axis=1)
+    return out
+
+
+def margin_study(banks: Sequence[object], images: np.ndarray, labels: Sequence[object], sigmas: Sequence[float],
+                 n_draws: int, rng: np.random.Generator, *, extent: int | None = None) -> np.ndarray:
+    """Difference between the true class's score and the largest false one, per projection.
+
+    Every trial and level draws one noisy copy of every image (Gaussian noise, as in
+    :func:`noise_sweep`), scored by every bank (``decision_function``: the sum over the
+    bank's angles of the largest projection-correlation peak) and divided by the bank's
+    number of angles, so that banks of two and three projections compare on one scale
+    (each unit-energy peak is at most 1). A positive margin is a correct decision.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_draws, len(sigmas), len(banks), n)
+    """
+    banks = list(banks)
+    if not banks:
+        raise ValueError("banks must not be empty")
+    for i, b in enumerate(banks):
+        _check_bank(b, f"banks[{i}]")
+        if not (hasattr(b, "decision_function") and hasattr(b, "angles")):
+            raise TypeError(f"banks[{i}] must be a ProjectionCorrelationClassifier (with angles)")
+    images, labels_arr = _check_images(images, labels)
+    for i, b in enumerate(banks):
+        if not np.all(np.isin(labels_arr, b.classes_)):
+            raise ValueError(f"labels must be classes of banks[{i}]")
+    sig = _check_sigmas(sigmas)
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    return np.array(montecarlo.run(_margin_trial, n_draws, as_rng(rng), banks, images, labels_arr, sig,
+                                   _check_extent(extent)))
+
+
+def _predictor_trial(rng, predictors, images, labels, sigmas, extent):
     out = np.zeros((len(sigmas), len(predictors), len(images)), dtype=bool)
     for j, s in enumerate(sigmas):
-        X = letters.noisy(images, float(s), rng)[0]
+        X = letters.noisy(images, float(s), rng, extent=extent)[0]
         out[j] = [predict(X) == labels for predict in predictors]
     return out
 
 
 def predictor_accuracy(predictors: Mapping[str, Callable[[np.ndarray], np.ndarray]], images: np.ndarray,
                        labels: Sequence[object], sigmas: Sequence[float], n_draws: int,
-                       rng: np.random.Generator) -> np.ndarray:
+                       rng: np.random.Generator, *, extent: int | None = None) -> np.ndarray:
     """Which images each predictor gets right, over a grid of Gaussian noise levels.
 
     Every trial and noise level draws one noisy copy of every image (Gaussian noise over
-    the whole image, zero-mean after, :func:`projtrack.scenes.letters.noisy`) and gives
-    the same stack ``(n, H, W)`` to every predictor.
+    the central ``extent x extent`` pixels, zero-mean after,
+    :func:`projtrack.scenes.letters.noisy`) and gives the same stack ``(n, H, W)`` to every
+    predictor.
 
     Parameters
     ----------
     predictors : mapping of name to callable
         Each maps a stack of images to one predicted label per image (e.g. a bank's
         ``predict``, or a baseline classifier with its own preprocessing).
-    images, labels, sigmas, n_draws, rng
+    images, labels, sigmas, n_draws, rng, extent
         As for :func:`noise_sweep`.
 
     Returns
@@ -183,9 +254,8 @@ def predictor_accuracy(predictors: Mapping[str, Callable[[np.ndarray], np.ndarra
         if not callable(f):
             raise TypeError(f"predictors[{k!r}] must be callable, got {type(f).__name__}")
     images, labels_arr = _check_images(images, labels)
-    sig = as_array(sigmas, "sigmas", ndim=1, allow_empty=False)
-    if np.any(sig < 0):
-        raise ValueError(f"sigmas must be >= 0, got {sig}")
+    sig = _check_sigmas(sigmas)
     n_draws = as_int(n_draws, "n_draws", minimum=1)
-    res = montecarlo.run(_predictor_trial, n_draws, as_rng(rng), list(predictors.values()), images, labels_arr, sig)
+    res = montecarlo.run(_predictor_trial, n_draws, as_rng(rng), list(predictors.values()), images, labels_arr, sig,
+                         _check_extent(extent))
     return np.array(res)

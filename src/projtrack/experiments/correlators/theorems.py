@@ -3,7 +3,9 @@ projection of the 2-D correlation), at exact-binning and interpolated angles.
 
 * :func:`central_slice_errors`: 1-D spectrum of a projection against the slice of the 2-D spectrum;
 * :func:`eq3_errors`: projection correlation against the integrated 2-D correlation;
-* :func:`eq3_random_pairs`: the same on random image pairs of random sizes at lattice angles.
+* :func:`eq3_random_pairs`: the same on random image pairs of random sizes at lattice angles;
+* :func:`eq3_wrong_angle`: the baseline for the interpolated angles: the same difference when
+  the projection correlation is taken at a slightly wrong angle.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from projtrack import correlators as C
 from projtrack import montecarlo
 from projtrack._validation import as_array, as_int, as_real, as_rng
 
-__all__ = ["central_slice_errors", "eq3_errors", "eq3_random_pairs"]
+__all__ = ["central_slice_errors", "eq3_errors", "eq3_random_pairs", "eq3_wrong_angle"]
 
 
 def central_slice_errors(image: np.ndarray, angles: Sequence[float], rho: np.ndarray, *,
@@ -92,3 +94,34 @@ def eq3_random_pairs(n_pairs: int, rng: np.random.Generator, *, max_side: int = 
     n_pairs = as_int(n_pairs, "n_pairs", minimum=1)
     max_side = as_int(max_side, "max_side", minimum=3)
     return max(montecarlo.run(_pair_error, n_pairs, as_rng(rng), max_side))
+
+
+def eq3_wrong_angle(f: np.ndarray, g: np.ndarray, angles: Sequence[float], deltas: Sequence[float]) -> pd.DataFrame:
+    """Eq. (3) difference at ``angles``, beside the difference a wrong angle makes.
+
+    For each angle the integrated 2-D correlation at ``theta`` is compared with the
+    projection correlation at ``theta`` (the Eq. (3) difference) and at ``theta + delta``
+    for each of ``deltas`` (a baseline that must fail: the projection correlation at a
+    wrong angle, linearly interpolated onto the bins of ``theta``); all relative to the
+    largest magnitude of the integrated correlation.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``theta (deg)``, ``Eq. (3)`` and ``theta + <delta> deg`` per delta.
+    """
+    f = as_array(f, "f", ndim=2, allow_empty=False)
+    g = as_array(g, "g", ndim=2, allow_empty=False)
+    deltas = [as_real(d, "deltas") for d in deltas]
+    rows = []
+    for theta in angles:
+        theta = as_real(theta, "angles")
+        b, r = C.integrated_correlation(f, g, theta), C.projection_axis(C.correlate2d(f, g).shape, theta)
+        scale = float(np.max(np.abs(b)))
+        row = {"theta (deg)": theta,
+               "Eq. (3)": float(np.max(np.abs(C.projection_correlation(f, g, theta) - b))) / scale}
+        for d in deltas:
+            a, ra = C.projection_correlation(f, g, theta + d, return_r=True)
+            row[f"theta {d:+g} deg"] = float(np.max(np.abs(np.interp(r, ra, a, left=0.0, right=0.0) - b))) / scale
+        rows.append(row)
+    return pd.DataFrame(rows)

@@ -1,19 +1,31 @@
-"""Figs. 2-3 of Marques et al. (2002): the motion model learned on a closed curve.
+"""Sec. 3 of Marques et al. (2002): the models learned on a closed curve (Figs. 2-3) and two checks.
 
-Prototypes of a learned curve model relabelled clockwise (:func:`clockwise_order`), the
-reading of a transition matrix as "stay or advance to the next state" (:func:`other_moves`)
-and the sensitivity of that structure to the training speed (:func:`speed_sensitivity`).
+* Prototypes of a learned curve model relabelled clockwise (:func:`clockwise_order`), the
+  reading of a transition matrix as "stay or advance to the next state" (:func:`other_moves`)
+  and the sensitivity of that structure to the training speed (:func:`speed_sensitivity`).
+* :func:`eq9_table`: the mean square error of replacing a region's points by their projection
+  on the local hyperplane, measured on the points, against eq. (9)'s sum of the discarded
+  eigenvalues, under the two ways a point belongs to a region (the EM weights of eq. (2), or
+  the hard regions of eq. (6)).
+* :func:`transition_convergence`: the relative-frequency estimate of a known transition matrix
+  from ``N`` simulated transitions (:func:`sample_path`), against the ``N^{-1/2}`` error the
+  multinomial variance predicts (:func:`predicted_frobenius`), for the claim "the estimates
+  converge almost surely to the true value as the number of points tends to infinity"
+  (Sec. 3.2).
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
-from projtrack._validation import as_array, as_count, as_real
+from projtrack._validation import as_array, as_count, as_int, as_real
 from projtrack.dma import DiscreteManifold, estimate_transitions
+from projtrack.montecarlo import run
 from projtrack.scenes import manifolds as mf
 
-__all__ = ["clockwise_order", "other_moves", "speed_sensitivity"]
+__all__ = ["clockwise_order", "other_moves", "speed_sensitivity", "responsibilities", "eq9_table", "sample_path",
+           "stationary", "predicted_frobenius", "transition_convergence"]
 
 
 def clockwise_order(model: DiscreteManifold) -> tuple[np.ndarray, np.ndarray]:
@@ -96,3 +108,157 @@ def speed_sensitivity(
                      "rows with other moves": other_moves(D, threshold),
                      "largest successors per row": int((D > threshold).sum(axis=1).max())})
     return rows
+
+
+def responsibilities(model: DiscreteManifold, X: object) -> np.ndarray:
+    """The E-step weights of eq. (2), ``gamma_k(x) = c_k N(x; mu_k, R_k) / sum_i c_i N(x; mu_i, R_i)``,
+    for the regions of ``model``, ``(N, M)``."""
+    from scipy.special import logsumexp
+    from scipy.stats import multivariate_normal
+
+    P = as_array(X, "X", ndim=2, allow_empty=False)
+    if P.shape[1] != model.ambient_dim:
+        raise ValueError(f"X must have {model.ambient_dim} columns, got {P.shape[1]}")
+    logp = np.column_stack([np.log(model.weights[k]) + multivariate_normal(model.means[k], model.covariances[k],
+                                                                          allow_singular=True).logpdf(P)
+                            for k in range(model.n_regions)])
+    return np.exp(logp - logsumexp(logp, axis=1, keepdims=True))
+
+
+def eq9_table(model: DiscreteManifold, X: object, *, reg_covar: float = 1e-6):
+    """Eq. (9) against the points, region by region.
+
+    The residual of a point ``x`` in region ``k`` is ``x - mu - V V^T (x - mu)``, ``V`` the ``m``
+    leading eigenvectors of the region's covariance. Columns:
+
+    ``region``, ``points``
+        the region and the number of points in it by eq. (6);
+    ``E2 of eq. (9)``, ``weighted MSE``
+        eq. (9)'s sum of the discarded eigenvalues of the covariance of eqs. (4)-(5) computed
+        with the weights of eq. (2) (:func:`responsibilities`), and the weighted mean squared
+        residual of all points to the hyperplane of that mean and covariance: eq. (9) says
+        they are equal;
+    ``E2 of the model``, ``hard-region MSE``
+        the same sum for the model's own ``R_k`` (EM stopped at scikit-learn's tolerance, less
+        the ``reg_covar`` EM adds to each eigenvalue), and the mean squared residual of the
+        points of the region of eq. (6) to the model's hyperplane: the way Fig. 4c uses them.
+    """
+    import pandas as pd
+
+    P = as_array(X, "X", ndim=2, allow_empty=False)
+    gamma = responsibilities(model, P)
+    hard = model.assign(P)
+    rows = []
+    for k in range(model.n_regions):
+        m = int(model.dims[k])
+        w = gamma[:, k] / gamma[:, k].sum()
+        mu = w @ P
+        D = P - mu
+        R = (D * w[:, None]).T @ D
+        lam, V = np.linalg.eigh(R)  # ascending
+        Vm = V[:, ::-1][:, :m]
+        res_w = ((D - (D @ Vm) @ Vm.T) ** 2).sum(axis=1)
+        Dm = P - model.means[k]
+        Vk = model.bases[k]
+        res_h = ((Dm - (Dm @ Vk) @ Vk.T) ** 2).sum(axis=1)
+        rows.append({"region": k, "points": int((hard == k).sum()),
+                     "E2 of eq. (9)": float(np.clip(lam[::-1][m:], 0.0, None).sum()),
+                     "weighted MSE": float(w @ res_w),
+                     "E2 of the model": float(model.eigenvalues[k, m:].sum() - (model.ambient_dim - m) * reg_covar),
+                     "hard-region MSE": float(res_h[hard == k].mean()) if (hard == k).any() else np.nan})
+    return pd.DataFrame(rows)
+
+
+def stationary(transitions: object) -> np.ndarray:
+    """The stationary distribution of an irreducible row-stochastic matrix (the left eigenvector
+    of eigenvalue 1, by a linear solve), ``(S,)``."""
+    A = sp.csr_array(transitions, dtype=float).toarray()
+    S = A.shape[0]
+    if A.shape != (S, S) or S == 0:
+        raise ValueError(f"transitions must be a non-empty square matrix, got shape {A.shape}")
+    M = A.T - np.eye(S)
+    M[-1] = 1.0
+    b = np.zeros(S)
+    b[-1] = 1.0
+    pi = np.linalg.solve(M, b)
+    return np.clip(pi, 0.0, None) / np.clip(pi, 0.0, None).sum()
+
+
+def sample_path(transitions: object, n_steps: int, rng: np.random.Generator, *, start: int | None = None) -> np.ndarray:
+    """A state path of ``n_steps`` drawn from a sparse Markov chain (rows = from).
+
+    Same law as :func:`projtrack.scenes.manifolds.sample_markov_chain`, faster for long paths:
+    one uniform per step compared with the cumulative probabilities of the current row. The
+    start is ``start`` or a draw from :func:`stationary`.
+    """
+    A = sp.csr_array(transitions, dtype=float)
+    A.sort_indices()
+    S = A.shape[0]
+    n = as_count(n_steps, "n_steps")
+    cdf = [np.cumsum(A.data[A.indptr[i]:A.indptr[i + 1]]).tolist() for i in range(S)]
+    succ = [A.indices[A.indptr[i]:A.indptr[i + 1]].tolist() for i in range(S)]
+    if any(not c for c in cdf):
+        raise ValueError("every state needs at least one successor")
+    s = int(rng.choice(S, p=stationary(A))) if start is None else as_int(start, "start", minimum=0)
+    u = rng.random(n).tolist()  # the last successor takes what rounding leaves above the row's sum
+    out = np.empty(n, dtype=np.int64)
+    for t in range(n):
+        out[t] = s
+        c, j = cdf[s], 0
+        while j < len(c) - 1 and u[t] > c[j]:
+            j += 1
+        s = succ[s][j]
+    return out
+
+
+def predicted_frobenius(transitions: object, n_transitions: int) -> float:
+    """The Frobenius error the relative-frequency estimate should have after ``n_transitions``.
+
+    A row ``l`` visited ``n_l = N pi_l`` times has multinomial counts, so its estimate has
+    variance ``a_lk (1 - a_lk) / n_l`` per entry; summing gives
+    ``E |A_hat - A|_F^2 ~ sum_l (1 - sum_k a_lk^2) / (N pi_l)``, i.e. an error ``~ N^{-1/2}``.
+    """
+    A = sp.csr_array(transitions, dtype=float)
+    pi = stationary(A)
+    n = as_count(n_transitions, "n_transitions")
+    sq = np.asarray(A.multiply(A).sum(axis=1)).ravel()
+    return float(np.sqrt(((1.0 - sq) / np.maximum(pi, 1e-300)).sum() / n))
+
+
+def _convergence_trial(rng: np.random.Generator, A: sp.csr_array, sizes: tuple[int, ...], alpha: float) -> np.ndarray:
+    path = sample_path(A, max(sizes) + 1, rng)
+    out = []
+    dense = A.toarray()
+    for n in sizes:
+        est = estimate_transitions([path[:n + 1]], A.shape[0], alpha=alpha).toarray()
+        seen = np.bincount(path[:n], minlength=A.shape[0]) > 0
+        err = (est - dense)[seen]
+        out.append([np.abs(err).max(), np.sqrt((err ** 2).sum()), float((~seen).sum())])
+    return np.array(out)
+
+
+def transition_convergence(transitions: object, sizes: tuple[int, ...], n_paths: int, rng: np.random.Generator,
+                           *, alpha: float = 1e-9):
+    """The relative-frequency estimate of a known chain against the number of transitions.
+
+    ``n_paths`` paths of ``max(sizes)`` transitions from the stationary start (path ``i`` from
+    the ``i``-th child of ``rng``, through :func:`projtrack.montecarlo.run`); for each ``N`` in
+    ``sizes`` the chain is estimated from the first ``N`` transitions of each path
+    (:func:`projtrack.dma.estimate_transitions` with pseudo-count ``alpha``) and compared with
+    the truth on the rows visited. Columns: ``transitions N``, ``largest error`` (mean over the
+    paths of ``max |a_hat - a|``), ``Frobenius error`` (root mean square over the paths),
+    ``predicted`` (:func:`predicted_frobenius`) and ``unvisited states`` (mean over the paths:
+    rows the estimate cannot define; they are left out of the errors).
+    """
+    import pandas as pd
+
+    A = sp.csr_array(transitions, dtype=float)
+    sizes = tuple(as_count(n, "sizes[i]") for n in sizes)
+    if not sizes:
+        raise ValueError("sizes must not be empty")
+    n_paths = as_count(n_paths, "n_paths")
+    res = np.array(run(_convergence_trial, n_paths, rng, A, sizes, alpha))  # (paths, sizes, 3)
+    return pd.DataFrame({"transitions N": list(sizes), "largest error": res[:, :, 0].mean(axis=0),
+                         "Frobenius error": np.sqrt((res[:, :, 1] ** 2).mean(axis=0)),
+                         "predicted": [predicted_frobenius(A, n) for n in sizes],
+                         "unvisited states": res[:, :, 2].mean(axis=0)})

@@ -15,10 +15,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from projtrack._validation import as_array, as_count, as_real
-from projtrack.dma import RangeCosineSensor, estimate_transitions, log_transitions, neighbor_graph
+from projtrack.dma import RangeCosineSensor, estimate_transitions, log_transitions, neighbor_graph, viterbi
 from projtrack.experiments.dma.decoding import decode_all
 from projtrack.montecarlo import run
 from projtrack.stable import fmt
+from projtrack.tolerance import Tolerance, statistical
 from projtrack.scenes.roads import DirectedStates, RoadScene, make_road_scene
 
 __all__ = [
@@ -30,6 +31,11 @@ __all__ = [
     "block_summary",
     "no_data_errors",
     "ekf_range",
+    "ROAD_STATES",
+    "ROAD_NOISE",
+    "median_shift_bound",
+    "median_tolerance",
+    "reading_study",
 ]
 
 
@@ -45,6 +51,12 @@ class RoadExample:
     receiver: np.ndarray
     omega: float
     noise_var: float
+    speed: float = 12.0
+    dt: float = 1.0
+
+    def drive(self, n_steps: int, rng: np.random.Generator) -> np.ndarray:
+        """A test drive of ``n_steps`` positions at this example's speed and sampling interval."""
+        return self.scene.drive(n_steps, rng, speed=self.speed, dt=self.dt)
 
     def sensor(self) -> RangeCosineSensor:
         return RangeCosineSensor(self.points, self.receiver, self.omega, self.noise_var)
@@ -67,6 +79,8 @@ def make_road_example(
     omega: float = 0.02,
     noise_var: float = 0.05,
     scene_seed: int = 7,
+    speed: float = 12.0,
+    dt: float = 1.0,
 ) -> RoadExample:
     """Example 2: a road map, a motion model learned from training drives, a receiver.
 
@@ -75,14 +89,19 @@ def make_road_example(
     points every 10 m. With ``directed`` (default) a state is a road point *and* a
     direction of travel (:meth:`RoadScene.directed_states`); otherwise position only.
     The transition matrix is the relative frequency of state transitions in ``n_train``
-    training drives of ``train_steps`` s (eqs. (10)-(13)), smoothed with pseudo-count
+    training drives of ``train_steps`` samples (eqs. (10)-(13)) at the mean ``speed`` (m/s)
+    and sampling interval ``dt`` (s) of the test drives (:meth:`RoadExample.drive`), smoothed with pseudo-count
     1e-3 on neighbouring states (same direction within 25 m; for position-only states,
     road neighbours up to two hops). The receiver stands ``mast`` m above the ground at
     ``receiver_xy``. ``omega = 0.02`` and ``noise_var = 0.05`` as in eq. (14) (the
-    paper's ``sigma^2 = 0.05`` read as the variance).
+    paper's ``sigma^2 = 0.05`` read as the variance). ``speed``, ``dt`` and ``noise_var``
+    must be > 0 (ValueError otherwise).
     """
+    speed = as_real(speed, "speed", 0, low_open=True)
+    dt = as_real(dt, "dt", 0, low_open=True)
+    noise_var = as_real(noise_var, "noise_var", 0, low_open=True)
     scene = make_road_scene(np.random.default_rng(scene_seed))
-    train = [scene.drive(train_steps, rng) for _ in range(n_train)]
+    train = [scene.drive(train_steps, rng, speed=speed, dt=dt) for _ in range(n_train)]
     if directed:
         states = scene.directed_states(heading_scale)
         points = states.positions
@@ -101,35 +120,44 @@ def make_road_example(
     A = estimate_transitions(seqs, S, alpha=1e-3, neighbors=nb)
     rxy = np.asarray(receiver_xy, dtype=float)
     receiver = np.array([rxy[0], rxy[1], float(scene.elevation(rxy)) + mast])
-    return RoadExample(scene, states, points, A, np.full(S, 1.0 / S), receiver, float(omega), float(noise_var))
+    return RoadExample(scene, states, points, A, np.full(S, 1.0 / S), receiver, float(omega), float(noise_var),
+                       float(speed), float(dt))
 
 
-def _road_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, with_ekf: bool) -> dict[str, np.ndarray]:
+def _road_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, with_ekf: bool,
+                methods: tuple[str, ...]) -> dict[str, np.ndarray]:
     """One drive of :func:`road_trials` (the unit of :func:`projtrack.montecarlo.run`)."""
     sensor = ex.sensor()
     ls, lt = np.log(ex.start), log_transitions(ex.transitions)
-    x = ex.scene.drive(n_steps, rng)
+    x = ex.drive(n_steps, rng)
     y = ex.observe(x, rng)
-    dec = decode_all(ls, lt, sensor.log_likelihoods(y))
-    out = {k: np.linalg.norm(ex.points[v] - x, axis=1) for k, v in dec.items()}
+    le = sensor.log_likelihoods(y)
+    dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
+    out = {k: np.linalg.norm(ex.points[dec[k]] - x, axis=1) for k in methods}
     if with_ekf:
-        est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]),
-                        height=float(ex.receiver[2] - x[:, 2].mean()))
+        est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]) / ex.dt,
+                        height=float(ex.receiver[2] - x[:, 2].mean()), dt=ex.dt)
         out["ekf"] = np.linalg.norm(est - x[:, :2], axis=1)
     return out
 
 
-def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False) -> dict[str, np.ndarray]:
+def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator, *, with_ekf: bool = False,
+                methods: tuple[str, ...] = ("viterbi", "smooth", "filter")) -> dict[str, np.ndarray]:
     """Monte Carlo of Example 2 through :func:`projtrack.montecarlo.run`.
 
-    Each trial is a new drive of ``n_steps`` seconds and its observations (eq. (14)),
-    decoded by Viterbi, smoothing and filtering (and the road-ignoring EKF if
-    ``with_ekf``). Returns position errors in m, ``(n_trials, n_steps)``, per method.
-    ``n_trials`` and ``n_steps`` (>= 2) must be positive ints (ValueError otherwise).
+    Each trial is a new drive of ``n_steps`` samples (:meth:`RoadExample.drive`) and its
+    observations (eq. (14)), decoded by ``methods`` (Viterbi, smoothing, filtering; and the
+    road-ignoring EKF if ``with_ekf``). Returns position errors in m,
+    ``(n_trials, n_steps)``, per method. ``n_trials`` and ``n_steps`` (>= 2) must be
+    positive ints and ``methods`` a non-empty subset of the three decoders (ValueError
+    otherwise).
     """
     n_trials = as_count(n_trials, "n_trials")
     n_steps = as_count(n_steps, "n_steps", minimum=2)
-    trials = run(_road_trial, int(n_trials), rng, ex, int(n_steps), bool(with_ekf))
+    methods = tuple(methods)
+    if not methods or set(methods) - {"viterbi", "smooth", "filter"}:
+        raise ValueError(f"methods must be a non-empty subset of ('viterbi', 'smooth', 'filter'), got {methods!r}")
+    trials = run(_road_trial, int(n_trials), rng, ex, int(n_steps), bool(with_ekf), methods)
     return {k: np.array([t[k] for t in trials]) for k in trials[0]}
 
 
@@ -198,7 +226,7 @@ def block_summary(errors: object, block: int = 100) -> list[dict[str, object]]:
 
 def _no_data_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, guess: np.ndarray) -> np.ndarray:
     """One drive of :func:`no_data_errors` (the unit of :func:`projtrack.montecarlo.run`)."""
-    return np.linalg.norm(ex.scene.drive(n_steps, rng) - guess, axis=1)
+    return np.linalg.norm(ex.drive(n_steps, rng) - guess, axis=1)
 
 
 def no_data_errors(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Generator) -> np.ndarray:
@@ -267,3 +295,98 @@ def ekf_range(
         ekf.update(np.array([yt]), jac, hx)
         out[t] = ekf.x[:2]
     return out
+
+
+#: The readings of Example 2 that the speed and sampling study compares: label -> options of
+#: :func:`make_road_example`. "position" is the literal method (a state per road point).
+ROAD_STATES: dict[str, dict[str, object]] = {"position": {"directed": False},
+                                             "position and heading": {"directed": True}}
+#: The two readings of the paper's noise "w ~ N(0, sigma^2 = 0.05)": label -> noise variance.
+ROAD_NOISE: dict[str, float] = {"variance 0.05": 0.05, "std 0.05": 0.05**2}
+
+
+def median_shift_bound(errors: object) -> float:
+    """How far the median of all errors can move when one drive's errors change arbitrarily.
+
+    ``errors`` is ``(n_drives, n_steps)``; replacing one drive's ``n_steps`` values moves the
+    median of all values by at most ``n_steps`` order statistics, so by at most the larger of
+    the gaps between the median and the order statistics ``n_steps`` below and above it.
+    This is the size of one flipped Viterbi path (one drive) for the median error.
+    """
+    e = _errors(errors)
+    q = np.sort(e.ravel())
+    k, m = (len(q) - 1) // 2, e.shape[1]
+    lo, hi = q[max(k - m, 0)], q[min(k + m + 1, len(q) - 1)]
+    return float(max(q[k] - lo, hi - q[k]))
+
+
+def _reading_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int) -> np.ndarray:
+    return _road_trial(rng, ex, n_steps, False, ("viterbi",))["viterbi"]
+
+
+def reading_study(
+    readings: list[tuple[str, str, float, float]],
+    n_drives: int,
+    duration: float,
+    *,
+    train_seed: int = 20,
+    drive_seed: int = 22,
+) -> tuple[list[dict[str, object]], dict[tuple[str, str, float, float], np.ndarray]]:
+    """Example 2 under several readings of what the paper leaves open (Fig. 8).
+
+    Each reading is ``(states, noise, speed, dt)``: ``states`` a key of :data:`ROAD_STATES`,
+    ``noise`` a key of :data:`ROAD_NOISE`, the mean ``speed`` (m/s) and the sampling interval
+    ``dt`` (s). For each, :func:`make_road_example` (training drives from
+    ``numpy.random.default_rng(train_seed)``) and ``n_drives`` test drives of ``duration``
+    seconds (``round(duration / dt)`` samples, from ``numpy.random.default_rng(drive_seed)``),
+    decoded by Viterbi. Returns the table rows (the reading, the travel per sample, the
+    median error, the share of lost drives, :func:`lost_drives`, and whether the reading
+    follows the route: median below 20 m and at most 10% of the drives lost) and the errors
+    per reading. Unknown labels, an empty list, ``n_drives < 1`` or a ``duration`` shorter
+    than two samples are a ValueError.
+    """
+    n_drives = as_count(n_drives, "n_drives")
+    duration = as_real(duration, "duration", 0, low_open=True)
+    if not readings:
+        raise ValueError("readings must not be empty")
+    rows: list[dict[str, object]] = []
+    errors: dict[tuple[str, str, float, float], np.ndarray] = {}
+    for states, noise, speed, dt in readings:
+        if states not in ROAD_STATES or noise not in ROAD_NOISE:
+            raise ValueError(f"unknown reading {(states, noise)}: states in {list(ROAD_STATES)}, "
+                             f"noise in {list(ROAD_NOISE)}")
+        n_steps = int(round(duration / as_real(dt, "dt", 0, low_open=True)))
+        if n_steps < 2:
+            raise ValueError(f"duration {duration} s gives fewer than two samples at dt = {dt} s")
+        model = make_road_example(np.random.default_rng(train_seed), noise_var=ROAD_NOISE[noise], speed=speed, dt=dt,
+                                  **ROAD_STATES[states])  # type: ignore[arg-type]
+        e = np.array(run(_reading_trial, n_drives, np.random.default_rng(drive_seed), model, n_steps))
+        errors[states, noise, speed, dt] = e
+        lost = lost_drives(e)
+        med = float(np.median(e))
+        rows.append({"states": states, "noise": noise, "speed [m/s]": float(speed), "interval [s]": float(dt),
+                     "m per sample": float(speed * dt), "median error [m]": med, "lost share": float(lost.mean()),
+                     "follows": bool(med < 20 and lost.mean() <= 0.1)})
+    return rows, errors
+
+
+def median_tolerance(errors: list) -> Tolerance:
+    """The tolerance of a column of median errors, one ``(n_drives, n_steps)`` array per row.
+
+    One drive whose Viterbi path changes moves a row's median by at most
+    :func:`median_shift_bound`; the tolerance is that bound relative to the row's median, the
+    largest over the rows (rounded up to a whole percent), so every row is covered and rows
+    with small medians keep a small allowance. ``errors`` must not be empty and no median may
+    be zero (ValueError otherwise).
+    """
+    if not errors:
+        raise ValueError("errors must hold one (n_drives, n_steps) array per row")
+    ratios = []
+    for e in errors:
+        med = float(np.median(_errors(e)))
+        if med <= 0:
+            raise ValueError("a median error of zero cannot carry a relative tolerance")
+        ratios.append(median_shift_bound(e) / med)
+    rtol = float(np.ceil(100 * max(ratios)) / 100)
+    return statistical(rtol=rtol, why=f"one drive's Viterbi path changing moves a median of all its instants by at "
+                                      f"most n_steps order statistics: at most {rtol:.0%} of the median in every row")

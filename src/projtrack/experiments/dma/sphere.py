@@ -37,6 +37,13 @@ __all__ = [
     "accuracy_summary",
     "noise_study",
     "kalman_sphere",
+    "chain_stats",
+    "chain_sensitivity",
+    "chain_process_std",
+    "field_smoother",
+    "baseline_trials",
+    "rate_spread",
+    "f6_verdict",
 ]
 
 #: Observation row of Example 1.
@@ -60,10 +67,17 @@ class SphereExample:
     start: np.ndarray
     noise_std: float
     dt: float
+    drift: float = 0.3
+    width: float = 1.0
 
     @property
     def n_states(self) -> int:
         return len(self.centroids)
+
+    def velocity(self, x: np.ndarray) -> np.ndarray:
+        """The velocity field of the example (:func:`projtrack.scenes.manifolds.sphere_velocity`
+        with this example's ``drift``)."""
+        return mf.sphere_velocity(x, drift=self.drift)
 
     def sensor(self) -> LinearGaussianSensor:
         return LinearGaussianSensor(self.centroids, H_SPHERE, self.noise_std**2)
@@ -88,6 +102,8 @@ def make_sphere_example(
     dt: float = 0.3,
     noise_std: float = 0.1,
     chain: str = "two-nearest",
+    drift: float = 0.3,
+    width: float = 1.0,
 ) -> SphereExample:
     """Example 1: learn centroids on the sphere (Sec. 3.1) and the chain of a velocity field.
 
@@ -107,37 +123,48 @@ def make_sphere_example(
         predicted point (one arrow per centroid).
 
     The start is uniform. ``noise_std`` is the standard deviation of ``v`` (the paper
-    does not give it); it and ``dt`` must be > 0 (ValueError otherwise); an unknown
-    ``chain`` is a ValueError.
+    does not give it); ``drift`` the poleward drift of the field (>= 0) and ``width`` the
+    width of the transition weights in centroid spacings (> 0), both open choices too.
+    ``noise_std`` and ``dt`` must be > 0 (ValueError otherwise); an unknown ``chain`` is a
+    ValueError.
     """
     noise_std = as_real(noise_std, "noise_std", 0, low_open=True)
     dt = as_real(dt, "dt", 0, low_open=True)
+    drift = as_real(drift, "drift", 0)
+    width = as_real(width, "width", 0, low_open=True)
     if chain not in SPHERE_CHAINS:
         raise ValueError(f"chain must be one of {', '.join(SPHERE_CHAINS)}; got {chain!r}")
-    n_next, exclude_self = SPHERE_CHAINS[chain]
     X = mf.sphere_points(n_points, rng)
     man = learn_manifold(X, n_regions, n_prototypes, rng, dim=2)
     C = mf.project_to_sphere(man.prototypes)
-    A = transitions_from_velocity_field(C, mf.sphere_velocity, dt, n_next=n_next, project=mf.project_to_sphere,
-                                        exclude_self=exclude_self)
     S = len(C)
-    return SphereExample(man, C, A, np.full(S, 1.0 / S), float(noise_std), float(dt))
+    ex = SphereExample(man, C, sp.csr_array((S, S)), np.full(S, 1.0 / S), float(noise_std), float(dt),
+                       float(drift), float(width))
+    return replace(ex, transitions=_chain(ex, C, chain))
+
+
+def _chain(ex: SphereExample, C: np.ndarray, chain: str) -> sp.csr_array:
+    """The transitions of construction ``chain`` on centroids ``C`` with the field, ``dt`` and
+    weight width of ``ex``."""
+    from scipy.spatial import cKDTree
+
+    n_next, exclude_self = SPHERE_CHAINS[chain]
+    spacing = float(np.median(cKDTree(C).query(C, k=2)[0][:, 1]))
+    return transitions_from_velocity_field(C, ex.velocity, ex.dt, n_next=n_next, project=mf.project_to_sphere,
+                                           exclude_self=exclude_self, width=ex.width * spacing)
 
 
 def with_centroids(ex: SphereExample, centroids: object, chain: str) -> SphereExample:
     """``ex`` with other centroids on the sphere and the chain ``chain`` built on them.
 
-    The velocity field, ``dt``, the start distribution's size rule (uniform) and the noise
-    are those of ``ex``; the transitions are rebuilt as in :func:`make_sphere_example`
+    The velocity field, ``dt``, the weight width, the start distribution's size rule
+    (uniform) and the noise are those of ``ex``; the transitions are rebuilt as in :func:`make_sphere_example`
     (``chain`` one of :data:`SPHERE_CHAINS`). ``centroids`` must be a finite ``(S, 3)``
     array with ``S`` equal to ``ex.n_states`` (the start vector is kept; ValueError otherwise).
     """
     chain = as_choice(chain, "chain", tuple(SPHERE_CHAINS))
     C = as_array(centroids, "centroids", ndim=2, shape=(ex.n_states, 3))
-    n_next, exclude_self = SPHERE_CHAINS[chain]
-    A = transitions_from_velocity_field(C, mf.sphere_velocity, ex.dt, n_next=n_next, project=mf.project_to_sphere,
-                                        exclude_self=exclude_self)
-    return replace(ex, centroids=C, transitions=A)
+    return replace(ex, centroids=C, transitions=_chain(ex, C, chain))
 
 
 def _sphere_trial(rng: np.random.Generator, ex: SphereExample, n_steps: int, methods: tuple[str, ...],
@@ -285,3 +312,171 @@ def kalman_sphere(y: np.ndarray, noise_std: float, *, q: float = 0.3, smooth: bo
     if smooth:
         mu, _, _, _ = kf.rts_smoother(mu, cov)
     return np.asarray(mu).reshape(len(y), 3)
+
+
+def chain_stats(ex: SphereExample) -> dict[str, float]:
+    """How much the chain of ``ex`` branches: the mean self-loop probability, the mean largest
+    transition probability of a state (1 for a deterministic chain, 0.5 for two equal
+    successors) and the mean number of successors."""
+    A = sp.csr_array(ex.transitions)
+    rows = [A.data[A.indptr[i]:A.indptr[i + 1]] for i in range(A.shape[0])]
+    return {"self-loop": float(A.diagonal().mean()),
+            "largest transition": float(np.mean([r.max() for r in rows])),
+            "successors": float(np.mean([len(r) for r in rows]))}
+
+
+def chain_sensitivity(
+    variants: dict[str, dict[str, float]],
+    n_trials: int,
+    n_steps: int,
+    *,
+    seed: int = 12,
+    model_seed: int = 10,
+    chain: str = "two-nearest",
+    noise_std: float = 0.1,
+) -> list[dict[str, object]]:
+    """Viterbi accuracy of Example 1 when the open choices of the chain change.
+
+    ``variants`` maps a label to options of :func:`make_sphere_example` (``dt``, ``drift``,
+    ``width``; the others default). Each variant is built from
+    ``numpy.random.default_rng(model_seed)`` (the same centroids) with chain ``chain`` and
+    decoded on ``n_trials`` draws of ``n_steps`` from ``numpy.random.default_rng(seed)``.
+    Each row gives the label, :func:`chain_stats` and the ``"right, t >= 3"`` and
+    ``"perfect after t = 2"`` fractions of :func:`accuracy_summary`. ``variants`` must not
+    be empty (ValueError otherwise).
+    """
+    if not isinstance(variants, dict) or not variants:
+        raise ValueError("variants must be a non-empty dict label -> options of make_sphere_example")
+    rows: list[dict[str, object]] = []
+    for label, opts in variants.items():
+        m = make_sphere_example(np.random.default_rng(model_seed), noise_std=noise_std, chain=chain, **opts)
+        s = accuracy_summary(sphere_trials(m, n_trials, n_steps, np.random.default_rng(seed),
+                                           methods=("viterbi",))["viterbi"])
+        st = chain_stats(m)
+        rows.append({"variant": label, "self-loop": st["self-loop"], "largest transition": st["largest transition"],
+                     "right, t >= 3": s["right, t >= 3"], "perfect after t = 2": s["perfect after t = 2"]})
+    return rows
+
+
+def chain_process_std(ex: SphereExample) -> float:
+    """Per-axis standard deviation of the chain's step around the field's prediction.
+
+    For each centroid ``u_l`` the chain moves to ``u_k`` with probability ``a_lk``; the field
+    predicts ``u_l + dt v(u_l)``. Returns ``sqrt(mean_l sum_k a_lk |u_k - pred_l|^2 / 3)``:
+    the process noise a Kalman smoother that knows the field needs to describe the chain.
+    """
+    A = sp.coo_array(ex.transitions)
+    C = ex.centroids
+    pred = C + ex.dt * ex.velocity(C)
+    d2 = ((C[A.col] - pred[A.row]) ** 2).sum(axis=1)
+    per_state = np.bincount(A.row, weights=A.data * d2, minlength=len(C))
+    return float(np.sqrt(per_state.mean() / 3.0))
+
+
+def field_smoother(y: np.ndarray, noise_std: float, dt: float, *, drift: float = 0.3, q: float = 0.1,
+                   x0: np.ndarray | None = None) -> np.ndarray:
+    """A baseline that knows the exact velocity field but not the sphere: an extended Kalman
+    filter and Rauch-Tung-Striebel smoother in R^3.
+
+    State ``x_t = x_{t-1} + dt v(x_{t-1}) + w_t`` with ``v`` of
+    :func:`projtrack.scenes.manifolds.sphere_velocity` (``drift``; rotation about ``z``) and
+    ``w_t ~ N(0, q^2 I)``; ``y_t = [1 -1 1] x_t + v_t``, ``v_t ~ N(0, noise_std^2)``. The prior is
+    ``N(0, I/3)`` (a uniform point on the sphere), or, with ``x0``, the true start with a
+    covariance of ``1e-4 I`` (a generous start). Nothing keeps the estimate on the sphere.
+    Returns the smoothed states ``(N, 3)``. ``y`` must be finite and ``noise_std``, ``dt`` and
+    ``q`` > 0 (ValueError otherwise).
+    """
+    noise_std = as_real(noise_std, "noise_std", 0, low_open=True)
+    dt = as_real(dt, "dt", 0, low_open=True)
+    q = as_real(q, "q", 0, low_open=True)
+    drift = as_real(drift, "drift", 0)
+    y = as_array(y, "y", allow_empty=False).reshape(-1)
+    H = H_SPHERE[0]
+    k = np.array([0.0, 0.0, 1.0])
+    Kx = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])  # x -> k cross x
+    Q, R, eye = q**2 * np.eye(3), noise_std**2, np.eye(3)
+    if x0 is None:
+        x, P = np.zeros(3), eye / 3.0
+    else:
+        x, P = as_array(x0, "x0", ndim=1, shape=(3,)).copy(), 1e-4 * eye
+    n = len(y)
+    xf, Pf, xp, Pp, Fs = np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3, 3)), []
+    for t in range(n):
+        if t > 0:
+            F = eye + dt * (Kx - drift * (np.outer(x, k) + (k @ x) * eye))
+            x = x + dt * mf.sphere_velocity(x, drift=drift)
+            P = F @ P @ F.T + Q
+            Fs.append(F)
+        xp[t], Pp[t] = x, P
+        S = float(H @ P @ H) + R
+        G = P @ H / S
+        x = x + G * (y[t] - float(H @ x))
+        P = (eye - np.outer(G, H)) @ P
+        xf[t], Pf[t] = x, P
+    xs = xf.copy()
+    for t in range(n - 2, -1, -1):
+        C = Pf[t] @ Fs[t].T @ np.linalg.inv(Pp[t + 1])
+        xs[t] = xf[t] + C @ (xs[t + 1] - xp[t + 1])
+    return xs
+
+
+def _baseline_trial(rng: np.random.Generator, ex: SphereExample, n_steps: int, q: float) -> dict[str, np.ndarray]:
+    """One trial of :func:`baseline_trials`."""
+    out = _sphere_trial(rng, ex, n_steps, ("viterbi", "smooth", "filter"), True)
+    path, y = out["path"], out["y"]
+    C = ex.centroids
+
+    def hits(X: np.ndarray) -> np.ndarray:
+        return np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1) == path
+
+    out["field"] = hits(field_smoother(y, ex.noise_std, ex.dt, drift=ex.drift, q=q))
+    out["field_start"] = hits(field_smoother(y, ex.noise_std, ex.dt, drift=ex.drift, q=q, x0=C[path[0]]))
+    return out
+
+
+def baseline_trials(ex: SphereExample, n_trials: int, n_steps: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """Example 1 with every estimator: :func:`sphere_trials` (the three DMA decoders, the
+    per-instant maximum-likelihood centroid, chance and the random-walk Kalman smoother,
+    :func:`kalman_sphere`) plus the smoother that knows the field (:func:`field_smoother`,
+    with ``q`` from :func:`chain_process_std`), without (``"field"``) and with
+    (``"field_start"``) the true start. Returns ``(n_trials, n_steps)`` arrays as
+    :func:`sphere_trials`; trial ``i`` uses the ``i``-th child of ``rng``."""
+    n_trials = as_count(n_trials, "n_trials")
+    n_steps = as_count(n_steps, "n_steps")
+    trials = run(_baseline_trial, n_trials, rng, ex, n_steps, chain_process_std(ex))
+    return {k: np.array([t[k] for t in trials]) for k in trials[0]}
+
+
+def rate_spread(right: object, *, batch: int = 100, first: int = 2) -> dict[str, float]:
+    """The share of right centroids after the first ``first`` instants and how it varies.
+
+    ``right`` is an ``(n_trials, n_steps)`` boolean array. Returns the share (``"mean"``), a
+    95% interval from the spread of the per-trial shares (normal approximation,
+    ``"low"``/``"high"``) and the smallest and largest share over consecutive batches of
+    ``batch`` trials (``"batch min"``/``"batch max"``). The number of trials must be a
+    multiple of ``batch`` (ValueError otherwise).
+    """
+    ok = as_array(right, "right", ndim=2, allow_empty=False, dtype=bool)
+    batch = as_count(batch, "batch")
+    if len(ok) % batch:
+        raise ValueError(f"the number of trials ({len(ok)}) must be a multiple of batch ({batch})")
+    per = ok[:, first:].mean(axis=1)
+    half = 1.96 * per.std(ddof=1) / np.sqrt(len(per)) if len(per) > 1 else 0.0
+    b = per.reshape(-1, batch).mean(axis=1)
+    return {"mean": float(per.mean()), "low": float(per.mean() - half), "high": float(per.mean() + half),
+            "batch min": float(b.min()), "batch max": float(b.max())}
+
+
+def f6_verdict(row: object) -> str:
+    """The Fig. 6 criterion on one reading of :func:`accuracy_summary` (a dict or a table row).
+
+    ``within-tolerance`` if at least 90% of the runs are perfect after ``t = 2``;
+    ``qualitative`` if at least 50% are and the first two instants are right less often than
+    the later ones (errors concentrate at the start, as the paper says); ``differs`` otherwise.
+    """
+    p = float(row["perfect after t = 2"])  # type: ignore[index]
+    if p >= 0.9:
+        return "within-tolerance"
+    if p >= 0.5 and float(row["right, t = 1-2"]) < float(row["right, t >= 3"]):  # type: ignore[index]
+        return "qualitative"
+    return "differs"

@@ -4,9 +4,12 @@ The book's static page and its "beyond the paper" page draw the noise of Sec. 7.
 draw they show by a stated rule (:func:`shown_static_draw`), compare the unconstrained,
 PSD-constrained and interval-constrained estimates (:func:`three_estimates`) and measure how
 often the least squares estimate leaves the PSD cone (:func:`ls_psd_frequency`,
-:func:`noise_reading_study`, :func:`non_psd_pool_study`). The random checks of the operators
-behind them (the rank test of Sec. 5.1, :func:`hyperplane_ranks`; eqs. 6 and 10 on the
-representation page, :func:`ctilde_identity_study`) live here too.
+:func:`non_psd_pool_study`), under several readings of the interval bounds the paper does not
+give (:func:`interval_readings`, :func:`interval_bound_study`) and of its noise variance
+(:func:`snr_readings`). The random checks of the operators behind them (the rank test of
+Sec. 5.1, :func:`hyperplane_ranks`; eqs. 5, 6 and 10 on the representation page,
+:func:`ctilde_identity_study`, :func:`projector_form_study`; what the shaping family of eq. 22
+reaches, :func:`shaping_family_study`) live here too.
 """
 
 from __future__ import annotations
@@ -22,21 +25,46 @@ from projtrack._validation import as_array, as_int, as_real, as_rng
 from projtrack.scenes import ellipses as S
 from projtrack.experiments.ellipsoids.selection import median_draw
 
-__all__ = ["demo_interval", "ideal_supports", "ls_estimates", "shown_static_draw", "three_estimates",
-           "describe_estimates", "non_psd_pool_study", "ls_psd_frequency", "noise_reading_study",
-           "hyperplane_rank_trial", "hyperplane_ranks", "ctilde_identity_trial", "ctilde_identity_study"]
+__all__ = ["demo_interval", "interval_readings", "ideal_supports", "ls_estimates", "shown_static_draw",
+           "three_estimates", "describe_estimates", "non_psd_pool_study", "constraints_inactive", "interval_bound_study",
+           "ls_psd_frequency", "snr_readings", "hyperplane_rank_trial", "hyperplane_ranks",
+           "ctilde_identity_trial", "ctilde_identity_study", "projector_form_trial", "projector_form_study",
+           "shaping_family_study"]
+
+
+def _at_pi4(a: float, b: float) -> np.ndarray:
+    # the ellipse with semi-axes a, b and its first axis at pi/4, like eq. (26)
+    R45 = S.rotation(np.pi / 4)
+    return R45 @ np.diag([a, b]) ** 2 @ R45.T
 
 
 def demo_interval() -> tuple[np.ndarray, np.ndarray]:
     """The interval bounds ``X_lo <= X <= X_hi`` of the book's Figs. 7 and 9 (our choice).
 
-    Ellipses at ``pi/4`` like eq. (26), semi-axes 1.4 and 0.6 (inner) and 3.2 and 1.6 (outer):
-    the paper does not give its interval.
+    Ellipses at ``pi/4`` like eq. (26), semi-axes 1.4 and 0.6 (inner) and 4.8 and 2.4 (outer):
+    the paper does not give its interval, only that it encodes the orientation and that "the
+    outer bounding ellipse leaves the plot area" (Sec. 7.1); this one leaves the book's
+    ``[-3.2, 3.2]^2`` panels (its support along either axis is ``sqrt(14.4) = 3.79``).
+    Other readings: :func:`interval_readings`.
     """
-    R45 = S.rotation(np.pi / 4)
-    X_lo = R45 @ np.diag([1.4, 0.6]) ** 2 @ R45.T
-    X_hi = R45 @ np.diag([3.2, 1.6]) ** 2 @ R45.T
-    return X_lo, X_hi
+    return _at_pi4(1.4, 0.6), _at_pi4(4.8, 2.4)
+
+
+def interval_readings() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Plausible interval bounds for Sec. 7.1, side by side (the paper's are "arbitrary" and not given).
+
+    Returns ``{name: (X_lo, X_hi)}``: ours (:func:`demo_interval`); the same inner bound with an
+    outer bound inside the plot area (semi-axes 3.2, 1.6); a looser (1.2, 0.4) and a tighter
+    (1.6, 0.8) inner bound; and circles of radii 0.8 and 3.6, the eigenvalue constraint the paper
+    names for a prior without orientation. Every pair contains eq. (26).
+    """
+    return {
+        "ours: (1.4, 0.6) in (4.8, 2.4)": demo_interval(),
+        "outer inside the plot: (1.4, 0.6) in (3.2, 1.6)": (_at_pi4(1.4, 0.6), _at_pi4(3.2, 1.6)),
+        "looser inner: (1.2, 0.4) in (4.8, 2.4)": (_at_pi4(1.2, 0.4), _at_pi4(4.8, 2.4)),
+        "tighter inner: (1.6, 0.8) in (4.8, 2.4)": (_at_pi4(1.6, 0.8), _at_pi4(4.8, 2.4)),
+        "circles: radius 0.8 in 3.6": (0.64 * np.eye(2), 3.6**2 * np.eye(2)),
+    }
 
 
 def ideal_supports(X: object, Cs: Sequence[np.ndarray]) -> np.ndarray:
@@ -107,7 +135,7 @@ def three_estimates(Ys: Sequence[object], Cs: Sequence[np.ndarray], X_lo: object
         :class:`~projtrack.ellipsoids.HalfspaceResult`; the largest Frobenius distance between
         Algorithm 1 and the SDP.
     """
-    out = {"LS": E.reconstruct(Ys, Cs)}
+    out = {"LS": E.reconstruct(Ys, Cs, indefinite="ignore")}  # noisy data: an indefinite LS estimate is the point
     res_psd = E.halfspace_reconstruct(Ys, Cs, lower=0)
     res_int = E.halfspace_reconstruct(Ys, Cs, lower=X_lo, upper=X_hi)
     out["PSD"], out["interval"] = res_psd.X, res_int.X
@@ -158,7 +186,7 @@ def non_psd_pool_study(W: object, pool: object, X_lo: object, X_hi: object) -> d
     if np.any(idx < 0) or np.any(idx >= len(w)):
         raise ValueError(f"pool indices must lie in 0..{len(w) - 1}")
     X = S.X26
-    out = {"closest": [], "singular": [], "lo_beats": [], "int_beats_lo": [], "int_is_lo": []}
+    out = {"closest": [], "singular": [], "lo_beats": [], "int_beats_lo": [], "int_is_lo": [], "err_interval": []}
     e_lo = float(np.linalg.norm(X_lo - X))  # the prior alone: no data
     for i in idx:
         Ys_i = [np.array([[v]]) for v in ideal + w[i]]
@@ -169,20 +197,23 @@ def non_psd_pool_study(W: object, pool: object, X_lo: object, X_hi: object) -> d
         out["lo_beats"].append(e_lo < min(e["LS"], e["PSD"]))
         out["int_beats_lo"].append(e["interval"] < e_lo - 1e-6)
         out["int_is_lo"].append(np.linalg.norm(cand["interval"] - X_lo) < 1e-6)
+        out["err_interval"].append(e["interval"])
         out["singular"].append(abs(np.linalg.eigvalsh(cand["PSD"])[0]) <= 1e-8 * np.linalg.norm(cand["PSD"]))
     out["e_lo"] = e_lo
     return out
 
 
+def constraints_inactive(X_ls: object, X_lo: object, X_hi: object) -> np.ndarray:
+    """Whether the PSD and interval constraints are inactive for each LS estimate of ``X_ls`` (D, n, n):
+    the estimate is PSD and ``X_lo <= X_ls <= X_hi``, so the constrained estimates equal it."""
+    Xl = as_array(X_ls, "X_ls", ndim=3)
+    return ((np.linalg.eigvalsh(Xl)[:, 0] >= 0) & (np.linalg.eigvalsh(Xl - X_lo)[:, 0] >= 0)
+            & (np.linalg.eigvalsh(X_hi - Xl)[:, 0] >= 0))
+
+
 def _lognormal_block(rng: np.random.Generator, ideal: np.ndarray, variance: float, size: int) -> np.ndarray:
     # a block of `size` data sets drawn with one child generator (vectorized)
     return S.lognormal_noise(np.broadcast_to(ideal, (size, len(ideal))), variance, rng)
-
-
-def _logvar_block(rng: np.random.Generator, ideal: np.ndarray, s2: float, size: int) -> np.ndarray:
-    # the alternative reading: s2 is the variance of log(Y), Y = c exp(Z), Z ~ N(-s2/2, s2) (mean c)
-    z = rng.normal(-s2 / 2, np.sqrt(s2), size=(size, len(ideal)))
-    return ideal * np.expm1(z)
 
 
 def _blocks(gen, n_blocks: int, block: int, variance: float, seed: int, ideal: np.ndarray) -> np.ndarray:
@@ -243,24 +274,70 @@ def ls_psd_frequency(levels: Sequence[tuple[float, int]], n_blocks: int, block: 
     return pd.DataFrame(rows)
 
 
-def noise_reading_study(levels: Sequence[tuple[float, int]], n_blocks: int, block: int) -> pd.DataFrame:
-    """The LS behaviour under two readings of the paper's noise variance (of ``W``, ours, or of ``log Y``).
+def snr_readings(variances: Sequence[float] = (0.3, 9.0)) -> pd.DataFrame:
+    """The SNR of Sec. 7.1 under two readings of the stated noise variance (closed forms).
 
-    Same draws as :func:`ls_psd_frequency` for our reading (same seeds). Returns one row per
-    (level, reading): share of non-PSD estimates, share with both eigenvalues as extreme as the
-    paper's, median largest eigenvalue.
+    The paper defines ``SNR = sqrt(sum c_k^2) / (sigma sqrt(n))`` with ``sigma`` "the standard
+    deviation of applied noise" and states variances 0.3 and 9 for SNRs "about 5" and "about 1".
+
+    * *variance of the noise W* (ours, :func:`projtrack.scenes.ellipses.lognormal_noise`):
+      ``sigma = sqrt(variance)``;
+    * *variance of log Y* (``Y_k = c_k exp(Z_k)``, ``Z_k ~ N(-s^2/2, s^2)``, ``s^2`` the stated
+      value): ``W_k`` then has standard deviation ``c_k sqrt(exp(s^2) - 1)``; with ``sigma``
+      their root-mean-square the SNR is ``1 / sqrt(exp(s^2) - 1)``.
+
+    Returns one row per reading and variance: ``sigma`` and the SNR.
     """
-    pairs = _check_study(levels, n_blocks, block)
     Cs = S.paper_projections()
     ideal = ideal_supports(S.X26, Cs)
     rows = []
-    for var, seed in pairs:
-        for reading, gen in (("variance of the noise W (ours)", _lognormal_block), ("variance of log Y", _logvar_block)):
-            W = _blocks(gen, n_blocks, block, var, seed, ideal)
-            lam = np.linalg.eigvalsh(ls_estimates(W, ideal, Cs))
-            rows.append({"stated variance": var, "reading": reading, "P(LS not PSD)": np.mean(lam[:, 0] < 0),
-                         "P(both as extreme as -2.5, 19.2)": np.mean((lam[:, 0] <= -2.5) & (lam[:, 1] >= 19.2)),
-                         "median lambda_max": np.median(lam[:, 1])})
+    for v in variances:
+        v = as_real(v, "variance", 0.0, low_open=True)
+        sd_log = ideal * np.sqrt(np.expm1(v))
+        for reading, sigma in (("variance of the noise W (ours)", np.sqrt(v)),
+                               ("variance of log Y", float(np.sqrt(np.mean(sd_log**2))))):
+            rows.append({"reading": reading, "stated variance": v, "sigma": sigma,
+                         "SNR": S.snr_static(ideal, sigma)})
+    return pd.DataFrame(rows)
+
+
+def interval_bound_study(W_small: object, W_large: object, pool: object,
+                         readings: dict[str, tuple[np.ndarray, np.ndarray]]) -> pd.DataFrame:
+    """The claims of Figs. 7 and 9 under several interval bounds (:func:`interval_readings`).
+
+    Parameters
+    ----------
+    W_small : array_like (D, 5)
+        Perturbations of the small-perturbation draws (variance 0.3).
+    W_large : array_like (D', 5)
+        Perturbations of the large-perturbation draws (variance 9).
+    pool : array_like of int
+        The draws of ``W_large`` whose LS estimate is not PSD.
+    readings : dict
+        ``{name: (X_lo, X_hi)}``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per reading: ``F7: inactive`` (share of the small draws whose LS estimate is PSD
+        and inside the interval, so that both constraints are inactive), and over the pool: the
+        share where the interval estimate is the closest of the three to the truth, where the
+        inner bound alone is closer than LS and PSD, where the interval estimate is strictly
+        closer than the inner bound (by more than 1e-6), and where it is the inner bound itself.
+    """
+    Cs = S.paper_projections()
+    ideal = ideal_supports(S.X26, Cs)
+    ws = as_array(W_small, "W_small", shape=(None, len(Cs)))
+    X_small = ls_estimates(ws, ideal, Cs)
+    rows = []
+    for name, (lo, hi) in readings.items():
+        inactive = constraints_inactive(X_small, lo, hi)
+        st = non_psd_pool_study(W_large, pool, lo, hi)
+        rows.append({"interval (semi-axes)": name, "F7: inactive": float(np.mean(inactive)),
+                     "F9: interval closest": float(np.mean(np.array(st["closest"]) == "interval")),
+                     "F9: X_lo alone closer than LS, PSD": float(np.mean(st["lo_beats"])),
+                     "F9: interval beats X_lo": float(np.mean(st["int_beats_lo"])),
+                     "F9: interval = X_lo": float(np.mean(st["int_is_lo"]))})
     return pd.DataFrame(rows)
 
 
@@ -333,3 +410,122 @@ def ctilde_identity_study(n_checks: int, rng: np.random.Generator, n_max: int = 
     n_max = as_int(n_max, "n_max", minimum=2)
     errs = np.array(montecarlo.run(ctilde_identity_trial, n_checks, rng, n_max, n_jobs=n_jobs))
     return {"count": len(errs), "err_kron": float(errs[:, 0].max()), "err_proj": float(errs[:, 1].max())}
+
+
+def projector_form_trial(rng: np.random.Generator, n_max: int = 6) -> dict:
+    """One random check of the projector form (5) of Sec. 3 and the remark closing Sec. 4.
+
+    Draws ``n`` in 2..n_max, ``m`` in 1..n-1, a view ``C`` (n x m, orthonormal columns), an
+    orthogonal ``Q`` (m x m) and a symmetric ``X``. With ``Cbar = C C^T``:
+
+    Returns
+    -------
+    dict
+        ``idempotent`` ``max|Cbar^2 - Cbar|``, ``symmetric`` ``max|Cbar - Cbar^T|``,
+        ``basis`` ``max|Cbar X Cbar - Cbar' X Cbar'|`` with ``Cbar' = (CQ)(CQ)^T``,
+        ``recover`` ``max|C^T (Cbar X Cbar) C - C^T X C|`` (eq. 4 from eq. 5), and for the
+        matrix ``P`` of ``X -> Cbar X Cbar`` in the standard symmetric basis (eq. 9):
+        ``P_symmetric`` ``max|P - P^T|``, ``P_idempotent`` ``max|P^2 - P|``, ``rank`` its rank
+        and ``expected_rank`` ``m(m+1)/2``.
+    """
+    n = int(rng.integers(2, n_max + 1))
+    m = int(rng.integers(1, n))
+    Cm = S.random_projection(n, m, rng)
+    Q = S.random_projection(m, m, rng)
+    Xr = rng.normal(size=(n, n))
+    Xr = (Xr + Xr.T) / 2
+    Cb, Cb2 = Cm @ Cm.T, (Cm @ Q) @ (Cm @ Q).T
+    P = E.congruence_operator(Cb)  # the matrix of X -> Cbar^T X Cbar = Cbar X Cbar (eq. 21's operator)
+    return {"idempotent": float(np.abs(Cb @ Cb - Cb).max()), "symmetric": float(np.abs(Cb - Cb.T).max()),
+            "basis": float(np.abs(Cb @ Xr @ Cb - Cb2 @ Xr @ Cb2).max()),
+            "recover": float(np.abs(Cm.T @ (Cb @ Xr @ Cb) @ Cm - E.project(Xr, Cm)).max()),
+            "P_symmetric": float(np.abs(P - P.T).max()), "P_idempotent": float(np.abs(P @ P - P).max()),
+            "rank": int(np.linalg.matrix_rank(P)), "expected_rank": m * (m + 1) // 2}
+
+
+def projector_form_study(n_checks: int, rng: np.random.Generator, n_max: int = 6,
+                         n_jobs: int | None = None) -> tuple[pd.DataFrame, int]:
+    """``n_checks`` trials of :func:`projector_form_trial` through :func:`projtrack.montecarlo.run`.
+
+    Returns
+    -------
+    (table, n_rank)
+        One row per identity of eq. (5): what is checked and its largest deviation over the
+        trials; and the number of trials in which the matrix of ``X -> Cbar X Cbar`` has rank
+        ``m(m+1)/2`` (an orthogonal projector onto the symmetric matrices of the subspace).
+    """
+    n_checks = as_int(n_checks, "n_checks", minimum=1)
+    rng = as_rng(rng)
+    n_max = as_int(n_max, "n_max", minimum=2)
+    t = pd.DataFrame(montecarlo.run(projector_form_trial, n_checks, rng, n_max, n_jobs=n_jobs))
+    checks = [("Cbar^2 = Cbar", "idempotent"), ("Cbar^T = Cbar", "symmetric"),
+              ("Cbar X Cbar the same for C and CQ", "basis"), ("C^T (Cbar X Cbar) C = C^T X C", "recover"),
+              ("C~ of eq. (5) symmetric", "P_symmetric"), ("C~ of eq. (5) idempotent", "P_idempotent")]
+    rows = [{"check": name, "max deviation": float(t[key].max())} for name, key in checks]
+    return pd.DataFrame(rows), int((t["rank"] == t["expected_rank"]).sum())
+
+
+def _family(phi: float, alpha: float, tau: float, psi: float) -> np.ndarray:
+    # the map of eq. (22): rotate by psi, magnify by tau, stretch by (alpha, 1/alpha), rotate by phi
+    return S.rotation(phi) @ np.diag([alpha, 1 / alpha]) @ (tau * np.eye(2)) @ S.rotation(psi)
+
+
+def _family_parameters(L: np.ndarray) -> tuple[float, float, float, float]:
+    # (phi, alpha, tau, psi) of a 2 x 2 matrix with det > 0, from its SVD with both factors rotations
+    U, sv, Vt = np.linalg.svd(L)
+    if np.linalg.det(U) < 0:  # det L > 0: then det V < 0 too; flipping both keeps U diag(sv) V^T
+        U, Vt = U * [1, -1], Vt * [[1], [-1]]
+    return (float(np.arctan2(U[1, 0], U[0, 0])), float(np.sqrt(sv[0] / sv[1])), float(np.sqrt(sv[0] * sv[1])),
+            float(np.arctan2(Vt[1, 0], Vt[0, 0])))
+
+
+def shaping_family_study(n_draws: int, rng: np.random.Generator) -> tuple[pd.DataFrame, dict]:
+    """What the family of eq. (22) reaches: "any linear transformation of the plane" (Sec. 6.1)?
+
+    Every member has determinant ``tau^2 >= 0``. For ``n_draws`` Gaussian 2 x 2 matrices ``L``
+    (and a random ellipse ``X`` each, :func:`projtrack.scenes.ellipses.random_ellipsoid`):
+    those with ``det L > 0`` are decomposed by the SVD into ``(phi, alpha, tau, psi)`` and rebuilt;
+    those with ``det L < 0`` (a reflection composed with a map of the family) cannot be, but their
+    effect ``L X L^T`` (eq. 3) on the given ellipse is that of ``L S``, ``S`` the ellipse's own mirror
+    symmetry, which has ``det > 0``; a rank-one map sends ``X`` to a segment, which no member with
+    ``tau != 0`` does. Also checks that ``A`` of eq. (23) (:func:`projtrack.ellipsoids.shaping_matrix`)
+    is the transpose of the map of eq. (22), so ``A^T X A = L X L^T``.
+
+    Returns
+    -------
+    (table, checks)
+        ``table``: one row per class of maps (share of the draws, whether the map itself and its
+        effect on an ellipse are reached); ``checks``: the largest deviations ``rebuild``
+        (``|L - L(phi, alpha, tau, psi)|``, det > 0), ``mirror`` (``|(LS) X (LS)^T - L X L^T|`` with
+        ``LS`` rebuilt from its parameters, det < 0), ``transpose`` (``|A^T X A - L X L^T|``) and the
+        counts ``n_pos``, ``n_neg``.
+    """
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    rng = as_rng(rng)
+    dev = {"rebuild": 0.0, "mirror": 0.0, "transpose": 0.0}
+    n_pos = 0
+    for _ in range(n_draws):
+        L = rng.normal(size=(2, 2))
+        X = S.random_ellipsoid(2, rng)
+        if np.linalg.det(L) > 0:
+            n_pos += 1
+            par = _family_parameters(L)
+            dev["rebuild"] = max(dev["rebuild"], float(np.abs(_family(*par) - L).max()))
+        else:
+            V = np.linalg.eigh(X)[1]
+            M = L @ (V @ np.diag([1.0, -1.0]) @ V.T)  # L composed with the ellipse's mirror symmetry
+            par = _family_parameters(M)
+            Mr = _family(*par)
+            dev["mirror"] = max(dev["mirror"], float(np.abs(Mr @ X @ Mr.T - L @ X @ L.T).max()))
+        A = E.shaping_matrix(par[2], par[1], par[3], par[0])  # eq. (23): (tau, alpha, psi, phi)
+        Lr = _family(*par)
+        dev["transpose"] = max(dev["transpose"], float(np.abs(A.T @ X @ A - Lr @ X @ Lr.T).max()))
+    table = pd.DataFrame([
+        {"maps L": "det L > 0", "share of the draws": n_pos / n_draws, "L reached": "yes",
+         "L X L^T reached": "yes"},
+        {"maps L": "det L < 0 (with a reflection)", "share of the draws": 1 - n_pos / n_draws,
+         "L reached": "no: det = tau^2 >= 0", "L X L^T reached": "yes: L S, S the ellipse's mirror"},
+        {"maps L": "rank one", "share of the draws": 0.0, "L reached": "no: det = tau^2 > 0 or L = 0",
+         "L X L^T reached": "no: a segment"},
+    ])
+    return table, {**dev, "n_pos": n_pos, "n_neg": n_draws - n_pos}

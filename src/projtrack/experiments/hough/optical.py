@@ -1,6 +1,10 @@
-"""The optical HT of Sec. VII (Fig. 11) against point voting, and our HT against skimage's.
+"""The transform itself: its parameters (Sec. II.B), Eq. (4), the optical HT (Fig. 11), its cost.
 
-:func:`composite_image` draws the binary composite of a six-launch scene,
+:func:`geometry_trial` measures the linearity error and the extent of the salvo's tracks
+(the rules for ``drho`` and ``T_T``), :func:`plateau_width` and :func:`plateau_trial` how a
+short track spreads its peak. :func:`eq4_strip_counts` checks the readings of Eq. (4).
+:func:`stage_costs` counts the work of each stage against the number of targets (Sec. IV's
+fixed time). :func:`composite_image` draws the binary composite of a six-launch scene,
 :func:`exact_hough` is the exact voting HT with shifted bins or area pixels (the null
 comparisons), :func:`match_peaks` counts peaks found again in another plane;
 :func:`optics_trial`, :func:`skimage_trial` and :func:`peer_trial` are the Monte Carlo
@@ -16,12 +20,15 @@ import numpy as np
 from skimage.transform import hough_line, hough_line_peaks
 
 from projtrack._validation import as_array, as_int, as_real, as_rng
-from projtrack.experiments.hough.scoring import match_lines
-from projtrack.hough import detect_peaks, hough_transform, hough_transform_image, rotate_integrate_hough
+from projtrack.experiments.hough.salvo import SALVO_TIMES
+from projtrack.experiments.hough.scoring import evaluate_initiation, match_lines
+from projtrack.hough import (TrackInitiator, detect_peaks, hough_transform, hough_transform_image,
+                             rotate_integrate_hough)
 from projtrack.scenes.boost import frame_times, in_view_launches, render_frames
 
 __all__ = ["composite_image", "exact_hough", "match_peaks", "optics_trial", "OPT_PLANES", "skimage_cells",
-           "skimage_trial", "SKIMAGE_RULES", "peer_trial"]
+           "skimage_trial", "SKIMAGE_RULES", "peer_trial", "EQ4_READINGS", "eq4_strip_counts", "geometry_trial",
+           "plateau_width", "plateau_trial", "stage_costs"]
 
 #: The planes of the optics check: key of :func:`optics_trial`'s result and its name.
 OPT_PLANES = ((1, "rotate and integrate, bilinear (order=1)"), (0, "rotate and integrate, nearest (order=0)"),
@@ -95,17 +102,17 @@ def optics_trial(rng: np.random.Generator) -> dict[object, tuple[bool, int, int,
     """
     img = composite_image(rng)
     Hv, rh, th = hough_transform_image(img)
-    pv = [p for p in detect_peaks(Hv, rh, th, min_votes=6) if p.votes >= 12]
+    pv = [p for p in detect_peaks(Hv, rh, th, min_votes=6, ratio=3.0, bridge=1.5) if p.votes >= 12]
     out: dict[object, tuple[bool, int, int, bool]] = {}
     for order in (1, 0):
         Hr, _, _ = rotate_integrate_hough(img, order=order)
         m = float(abs(Hr.sum() - Hv.sum()) / Hv.sum())
-        k = match_peaks(pv, detect_peaks(Hr, rh, th, min_votes=6))
+        k = match_peaks(pv, detect_peaks(Hr, rh, th, min_votes=6, ratio=3.0, bridge=1.5))
         out[order] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3)
     for key, kw in (("shift", {"shift": 1.0}), ("square", {"sub": 4})):
         Hn, rn = exact_hough(img, rh, th, **kw)
         m = float(abs(Hn.sum() - Hv.sum()) / Hv.sum())
-        k = match_peaks(pv, detect_peaks(Hn, rn, th, min_votes=6))
+        k = match_peaks(pv, detect_peaks(Hn, rn, th, min_votes=6, ratio=3.0, bridge=1.5))
         out[key] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3)
     return out
 
@@ -152,9 +159,9 @@ def peer_trial(rng: np.random.Generator,
     fr = render_frames(tr, times, rng, n_noise=5)
     pts, lab = fr.composite(), np.concatenate(fr.labels)
     H, rh, th = hough_transform(pts, fr.shape)
-    lines = {"ours, printed ratio 3 (floor 6)": [(p.rho, p.theta_deg) for p in detect_peaks(H, rh, th, min_votes=6)],
+    lines = {"ours, printed ratio 3 (floor 6)": [(p.rho, p.theta_deg) for p in detect_peaks(H, rh, th, min_votes=6, ratio=3.0, bridge=1.5)],
              "ours, ridge-free ratio 3 (floor 11)": [(p.rho, p.theta_deg)
-                                                     for p in detect_peaks(H, rh, th, min_votes=11, exclude_ridge=1)]}
+                                                     for p in detect_peaks(H, rh, th, min_votes=11, exclude_ridge=1, ratio=3.0, bridge=1.5)]}
     for name, kw in rules.items():
         _, a, d = hough_line_peaks(H, np.deg2rad(th), rh, **kw)
         lines[name] = [(float(dd), float(np.rad2deg(aa))) for aa, dd in zip(a, d)]
@@ -163,3 +170,144 @@ def peer_trial(rng: np.random.Generator,
         own = match_lines(ls, pts, lab, fr.shape)
         out.append((name, len({int(o) for o in own if o >= 0}), int(np.sum(own < 0))))
     return out
+
+
+#: Readings of Eq. (4) of the paper, ``(x', y')`` of a point ``(x, y)`` (relative to the origin of
+#: ``rho``) for the line ``(rho, theta)``: as printed; with ``theta`` measured from the ``y`` axis
+#: (as Sec. VII measures the projections); with ``x`` and ``y`` swapped (rows and columns); and the
+#: rotation consistent with Eqs. (1) and (3), which :func:`~projtrack.hough.strip_projection` uses.
+EQ4_READINGS = {
+    "as printed": lambda x, y, c, s, rho: (x * s + y * c, -x * c + y * s - rho),
+    "theta from the y axis": lambda x, y, c, s, rho: (x * c + y * s, -x * s + y * c - rho),
+    "x and y swapped": lambda x, y, c, s, rho: (y * s + x * c, -y * c + x * s - rho),
+    "consistent with Eqs. (1), (3)": lambda x, y, c, s, rho: (-x * s + y * c, x * c + y * s - rho),
+}
+
+
+def eq4_strip_counts(thetas_deg: Sequence[float] = (0.0, 45.0, 90.0, 135.0), rho: float = 30.0, *,
+                     n_points: int = 21, length: float = 100.0, half_width: float = 2.0) -> list[dict[str, object]]:
+    """How many points of a line each reading of Eq. (4) puts in the strip ``|y'| <= half_width``.
+
+    For every ``theta`` of ``thetas_deg``, ``n_points`` points evenly spread over ``length``
+    pixels on the line ``rho = x cos(theta) + y sin(theta)`` (Eq. (1), coordinates relative to
+    the origin of ``rho``) are mapped by each reading of :data:`EQ4_READINGS`. A consistent
+    ``y'`` vanishes on the line, so every point lies in the strip; ``x'`` then runs along it
+    (its range is ``length``).
+
+    Returns
+    -------
+    list of dict
+        One per reading and angle: ``reading``, ``theta``, ``in strip`` (points with
+        ``|y'| <= half_width``), ``max |y'|`` and ``x' range`` (largest minus smallest ``x'``).
+    """
+    rho = as_real(rho, "rho")
+    n_points = as_int(n_points, "n_points", minimum=2)
+    length = as_real(length, "length", 0, low_open=True)
+    half_width = as_real(half_width, "half_width", 0, low_open=True)
+    u = np.linspace(-length / 2, length / 2, n_points)
+    out = []
+    for reading, f in EQ4_READINGS.items():
+        for th in thetas_deg:
+            t = np.deg2rad(as_real(th, "thetas_deg"))
+            c, s = np.cos(t), np.sin(t)
+            x, y = rho * c - u * s, rho * s + u * c  # on the line, along (-sin, cos)
+            xp, yp = f(x, y, c, s, rho)
+            out.append({"reading": reading, "theta": float(th), "in strip": int(np.sum(np.abs(yp) <= half_width + 1e-9)),
+                        "max |y'|": float(np.max(np.abs(yp))), "x' range": float(np.ptp(xp))})
+    return out
+
+
+def geometry_trial(rng: np.random.Generator, n_targets: int = 6, **launch_kw: object) -> list[tuple[float, float]]:
+    """The tracks of one salvo (:func:`~projtrack.scenes.boost.in_view_launches` over the 21
+    frames of Fig. 2): per target, its linearity error (the largest distance of its jitter-free
+    positions from the chord through its first and last ones, Sec. II.B's criterion for
+    ``drho``) and its extent (the length of that chord, Sec. II.B's criterion for ``T_T``)."""
+    rng = as_rng(rng)
+    out = []
+    for tr in in_view_launches(rng, as_int(n_targets, "n_targets", minimum=1), SALVO_TIMES, **launch_kw):
+        p = tr.position(SALVO_TIMES)
+        chord = p[-1] - p[0]
+        length = float(np.hypot(*chord))
+        normal = np.array([-chord[1], chord[0]]) / length
+        out.append((float(np.max(np.abs((p - p[0]) @ normal))), length))
+    return out
+
+
+def _straight_points(extent: float, n_points: int, theta_deg: float, rho: float,
+                     shape: tuple[int, int] = (256, 256)) -> np.ndarray:
+    t = np.deg2rad(theta_deg)
+    u = np.linspace(-extent / 2, extent / 2, n_points)
+    h, w = shape
+    return np.column_stack([w / 2 + rho * np.cos(t) - u * np.sin(t), h / 2 + rho * np.sin(t) + u * np.cos(t)])
+
+
+def plateau_width(extent: float, n_points: int = 21, *, theta_deg: float = 30.0, rho: float = 20.0,
+                  level: float = 0.9) -> int:
+    """How many ``theta`` columns (1 degree each) of the HT of a noise-free straight track hold a
+    cell with at least ``level`` of its ``n_points`` votes (Sec. II.B: a short track gives a
+    plateau along its sinusoid rather than a peak). The track's points are evenly spread over
+    ``extent`` pixels of the line ``(rho, theta_deg)``."""
+    extent = as_real(extent, "extent", 0, low_open=True)
+    n_points = as_int(n_points, "n_points", minimum=2)
+    level = as_real(level, "level", 0, 1, low_open=True)
+    H = hough_transform(_straight_points(extent, n_points, theta_deg, rho), (256, 256))[0]
+    return int(np.sum(H.max(axis=0) >= level * n_points - 1e-9))
+
+
+def plateau_trial(rng: np.random.Generator, extent: float, *, n_points: int = 21, n_noise: int = 5,
+                  jitter_sigma: float = 0.5) -> tuple[bool, float]:
+    """One straight track of ``n_points`` points over ``extent`` pixels (uniform direction,
+    through a point drawn in the middle of the frame), with jitter and ``n_noise`` false pixels
+    per frame, initiated with the paper's peak rule (ratio 3, bridge 1.5, a quarter of the
+    frames as floor). Returns whether a confirmed line lies on it and the angle error (degrees)
+    of the closest detected peak to the true line (NaN when there is no peak)."""
+    rng = as_rng(rng)
+    extent = as_real(extent, "extent", 0, low_open=True)
+    n_points = as_int(n_points, "n_points", minimum=2)
+    th = float(rng.uniform(0.0, 180.0))
+    centre = rng.uniform(96.0, 160.0, size=2)
+    pts = _straight_points(extent, n_points, th, 0.0) - 128.0 + centre
+    frames, labels = [], []
+    for k in range(n_points):
+        p = np.rint(pts[k] + rng.normal(0.0, as_real(jitter_sigma, "jitter_sigma", 0), 2))
+        noise = np.column_stack([rng.integers(0, 256, n_noise), rng.integers(0, 256, n_noise)]).astype(float)
+        frames.append(np.vstack([np.clip(p, 0, 255)[None], noise]))
+        labels.append(np.concatenate([[0], -np.ones(n_noise, dtype=int)]))
+    init = TrackInitiator(ratio=3.0, bridge=1.5)
+    init.initiate(frames, SALVO_TIMES[:n_points] if n_points <= len(SALVO_TIMES) else np.arange(n_points) * 0.25,
+                  (256, 256))
+    comp, lab = np.concatenate(frames), np.concatenate(labels)
+    confirmed = [(t.rho, t.theta_deg) for t in init.tracks_ if t.confirmed]
+    found = bool(np.any(match_lines(confirmed, comp, lab, (256, 256)) >= 0)) if confirmed else False
+    rho_true = float((centre - 128.0) @ np.array([np.cos(np.deg2rad(th)), np.sin(np.deg2rad(th))]))
+    errs = [abs((p.theta_deg - th + 90.0) % 180.0 - 90.0) for p in init.peaks_
+            if abs(p.rho - rho_true) <= 6 or abs(p.rho + rho_true) <= 6]
+    return found, float(min(errs)) if errs else float("nan")
+
+
+def stage_costs(rng: np.random.Generator, n_targets: int, *, n_noise: int = 5) -> dict[str, float]:
+    """The work of each stage of the initiator on one composite of ``n_targets`` launches (Sec. IV).
+
+    A scene of ``n_targets`` launches in view over the 21 frames of Fig. 2 with ``n_noise``
+    false pixels per frame, initiated with the paper's peak rule. Returns the number of
+    ``points`` in the composite, the ``lines`` the peak detector finds and the ``targets
+    found``, and the work counted in passes of the optical processor of Fig. 11 and in
+    operations of a point-voting digital form: ``optical HT passes`` (one prism angle per
+    ``theta``: 180, whatever the content), ``plane comparisons`` (cells of the exact and the
+    defocused planes compared: the plane's size), ``optical estimation passes`` (per line one
+    masked projection and one correlation per resolution tried), ``digital votes`` (points x
+    angles) and ``digital strip points`` (per line, every point of the composite tested
+    against the strip).
+    """
+    rng = as_rng(rng)
+    n_targets = as_int(n_targets, "n_targets", minimum=1)
+    trajs = in_view_launches(rng, n_targets, SALVO_TIMES)
+    fr = render_frames(trajs, SALVO_TIMES, rng, n_noise=as_int(n_noise, "n_noise", minimum=0))
+    init = TrackInitiator(ratio=3.0, bridge=1.5)
+    r = evaluate_initiation(init, fr, trajs)
+    n_pts = len(fr.composite())
+    n_theta = init.thetas_deg_.size
+    return {"points": float(n_pts), "lines": float(len(init.tracks_)), "targets found": float(r["n_found"]),
+            "optical HT passes": float(n_theta), "plane comparisons": float(init.H_.size),
+            "optical estimation passes": float(sum(1 + len(t.projection.history) for t in init.tracks_)),
+            "digital votes": float(n_pts * n_theta), "digital strip points": float(len(init.tracks_) * n_pts)}

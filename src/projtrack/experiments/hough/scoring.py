@@ -3,7 +3,9 @@
 :func:`match_lines` tells which target each detected line belongs to;
 :func:`evaluate_initiation` runs a :class:`~projtrack.hough.TrackInitiator` on a
 :class:`~projtrack.scenes.boost.Frames` stack and counts found, missed and false tracks
-and the position and prediction errors of the true ones.
+and the position and prediction errors of the true ones. :func:`mean_field_ratio` and
+:func:`fraction_needed` say how a line of ``N`` votes stands against the ratio-3 peak rule
+on a plane biased by false pixels.
 """
 
 from __future__ import annotations
@@ -12,11 +14,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from projtrack._validation import as_probability, as_shape2
+from projtrack._validation import as_int, as_probability, as_real, as_shape2
 from projtrack.hough import TrackInitiator
 from projtrack.hough._checks import _check_points, _origin_xy
 
-__all__ = ["match_lines", "evaluate_initiation"]
+__all__ = ["match_lines", "evaluate_initiation", "mean_field_ratio", "fraction_needed"]
 
 
 def match_lines(lines: Sequence[tuple[float, float]], points: object, labels: object,
@@ -119,3 +121,36 @@ def evaluate_initiation(initiator: TrackInitiator, frames: object, trajectories:
         "n_false_confirmed": int(np.sum(confirmed & (owner < 0))),
         "found": found, "full_view": full_view, "present": present, "owner": owner, "tracks": rows,
     }
+
+
+def mean_field_ratio(n_votes: float, bias: float, fraction: float = 1.0, *, size: int = 5) -> float:
+    """The ratio rule's value at a line's cell, on a plane with a uniform bias (mean field).
+
+    A straight line of ``n_votes`` points puts a ``fraction`` of its votes in its own cell
+    and (when it does not spill out of the window) ``size * n_votes`` votes in the
+    ``size x size`` window, one ``size``-th per ``theta`` column; false pixels add ``bias``
+    votes to every cell, the line's own cell included. The cell over its window mean is
+
+    ``(fraction * N + b) / (N / size + b)``,
+
+    which is 5 for a perfect line on an empty plane (``fraction = 1``, ``b = 0``).
+    """
+    n = as_real(n_votes, "n_votes", 0, low_open=True)
+    b = as_real(bias, "bias", 0)
+    f = as_real(fraction, "fraction", 0, 1)
+    size = as_int(size, "size", minimum=1)
+    return (f * n + b) / (n / size + b)
+
+
+def fraction_needed(n_votes: float, bias: float, ratio: float = 3.0, *, size: int = 5) -> float:
+    """Smallest share of a line's votes its cell must hold to pass ``ratio`` (mean field).
+
+    Solving :func:`mean_field_ratio` ``> ratio`` for the fraction gives
+    ``f > ratio / size + (ratio - 1) b / N``: for the paper's ratio 3 and 5 x 5 window,
+    ``f > 0.6 + 2 b / N``. Above 1 no line of ``N`` votes can pass.
+    """
+    n = as_real(n_votes, "n_votes", 0, low_open=True)
+    b = as_real(bias, "bias", 0)
+    r = as_real(ratio, "ratio", 0, low_open=True)
+    size = as_int(size, "size", minimum=1)
+    return r / size + (r - 1.0) * b / n

@@ -3,7 +3,10 @@
 * :mod:`~projtrack.experiments.jpda.optables`: instrumented counts; Tables IV-VI as data; the
   fast algorithm with one in-situ working vector; the savings factor past Table VI.
 * :mod:`~projtrack.experiments.jpda.misprints`: evidence for Tables IV-VI's misprints; vector-growth readings.
-* :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; clutter sweep.
+* :mod:`~projtrack.experiments.jpda.sweeps`: a forward-backward sweep over the reachable MU words only.
+* :mod:`~projtrack.experiments.jpda.crosschecks`: beta by Sec. II.C's rule, by permanents; the permanent
+  from JPDA normalizers; clutter sweep; orders of the feasible events.
+* :mod:`~projtrack.experiments.jpda.routing`: can one chirp route the products of Fig. 5?
 * :mod:`~projtrack.experiments.jpda.equivalence`: fast beta methods against the enumeration.
 * :mod:`~projtrack.experiments.jpda.analog`: beta errors of Fig. 5 with noisy detectors.
 * :mod:`~projtrack.experiments.jpda.timing`: wall-clock scaling of the exact beta methods.
@@ -12,19 +15,24 @@
 
 from __future__ import annotations
 
-from .analog import ANALOG_TOLERANCE, analog_accuracy, analog_trial
+from .analog import ANALOG_TOLERANCE, analog_accuracy, analog_trial, median_interval
 from .crosschecks import (
     beta_by_permanents,
     beta_literature_rule,
     clutter_sensitivity,
+    event_orders,
+    permanent_by_interpolation,
     permanent_rect,
 )
-from .equivalence import equivalence_study, equivalence_summary, equivalence_trial
+from .equivalence import equivalence_study, equivalence_summary, equivalence_trial, normalization_summary
 from .misprints import (
+    LEVEL_OFF,
+    RELATIVE_FALL,
     count_table_verdict,
     fast_count_readings,
     grows_geometrically,
     growth_readings,
+    relative_growth_table,
     multiplication_rule_table,
     multiplication_rules,
     misprint_evidence,
@@ -46,11 +54,21 @@ from .optables import (
     parse_count_table,
     parse_ratio_table,
     savings,
+    savings_orders,
     savings_paths,
     vector_growth,
 )
+from .routing import chirp_routing, routing_table, slot_by_diode
+from .sweeps import SweepRun, beta_sweep_reachable, sweep_counts
 from .timing import best_of, scaling_timings
-from .tracking import run_trackers, score_tracks, tracking_study, tracking_summary, tracking_trial
+from .tracking import (
+    run_trackers,
+    score_tracks,
+    tracking_sampling,
+    tracking_study,
+    tracking_summary,
+    tracking_trial,
+)
 
 __all__ = [
     "all_ones_mvm",
@@ -66,6 +84,10 @@ __all__ = [
     "in_situ_summary",
     "savings",
     "savings_paths",
+    "savings_orders",
+    "SweepRun",
+    "beta_sweep_reachable",
+    "sweep_counts",
     "fast_count_readings",
     "misprint_evidence",
     "count_table_verdict",
@@ -78,15 +100,25 @@ __all__ = [
     "supported_value",
     "grows_geometrically",
     "growth_readings",
+    "relative_growth_table",
+    "RELATIVE_FALL",
+    "LEVEL_OFF",
     "beta_literature_rule",
     "permanent_rect",
     "beta_by_permanents",
+    "permanent_by_interpolation",
     "clutter_sensitivity",
+    "event_orders",
+    "chirp_routing",
+    "slot_by_diode",
+    "routing_table",
     "equivalence_trial",
     "equivalence_study",
     "equivalence_summary",
+    "normalization_summary",
     "analog_trial",
     "analog_accuracy",
+    "median_interval",
     "ANALOG_TOLERANCE",
     "best_of",
     "scaling_timings",
@@ -95,6 +127,7 @@ __all__ = [
     "tracking_trial",
     "tracking_study",
     "tracking_summary",
+    "tracking_sampling",
 ]
 
 # The trackers on real pedestrians (TUD-Campus, TUD-Stadtmitte, shipped by motmetrics), scored

@@ -3,8 +3,11 @@
 :func:`beta_literature_rule` enumerates the feasibility matrices with the weights of
 Sec. II.C's text (``1 - P_D`` per false measurement); for a common ``P_D`` it equals the
 MVM's beta. :func:`beta_by_permanents` writes beta as ratios of matrix permanents (exact
-JPDA is a permanent computation). :func:`clutter_sensitivity` tabulates ``beta_0`` over
-clutter densities.
+JPDA is a permanent computation), and :func:`permanent_by_interpolation` recovers the
+permanent of a 0-1 matrix from exact JPDA normalizers at several clutter densities (why no
+exact JPDA can run in polynomial time unless FP = #P). :func:`clutter_sensitivity`
+tabulates ``beta_0`` over clutter densities. :func:`event_orders` lists the feasible events
+of a validation matrix in four natural orders (which one Fig. 2 uses).
 """
 
 from __future__ import annotations
@@ -16,9 +19,12 @@ import numpy as np
 import pandas as pd
 
 from projtrack._validation import as_array, as_probability, as_real
-from projtrack.jpda import beta, feasibility_matrices, modified_validation_matrix
+from projtrack.jpda import beta, feasibility_matrices, iter_feasibility_matrices, modified_validation_matrix
 
-__all__ = ["beta_literature_rule", "permanent_rect", "beta_by_permanents", "clutter_sensitivity"]
+from .sweeps import beta_sweep_reachable
+
+__all__ = ["beta_literature_rule", "permanent_rect", "beta_by_permanents", "permanent_by_interpolation",
+           "clutter_sensitivity", "event_orders"]
 
 
 def _mvm(mvm: object) -> np.ndarray:
@@ -80,6 +86,63 @@ def beta_by_permanents(mvm: object) -> np.ndarray:
             b_perm[j + 1, t] = M[j, t] * permanent_rect(minor) / per
     b_perm[0] = 1 - b_perm[1:].sum(axis=0)
     return b_perm
+
+
+def permanent_by_interpolation(A: object) -> int:
+    """The permanent of a square 0-1 matrix from exact JPDA normalizers (polynomial interpolation).
+
+    With ``A`` as the gating of ``n`` measurements (rows) and ``n`` targets, unit
+    likelihoods scaled by ``x`` and row 0 of the MVM equal to 1, the JPDA normalizer (the sum
+    over all feasible events, :func:`~projtrack.experiments.jpda.beta_sweep_reachable`'s
+    ``column_sums``) is ``Z(x) = sum_k M_k x^k``, ``M_k`` the number of ``k``-edge matchings
+    of the gating graph; ``M_n`` is the permanent of ``A``. ``Z`` at ``x = 0..n`` (``x`` is
+    one over a clutter density) gives the ``M_k`` by exact interpolation. A polynomial-time
+    exact normalizer would thus give the permanent of 0-1 matrices, which is #P-complete
+    (Valiant 1979), in polynomial time.
+    """
+    from fractions import Fraction
+
+    A = as_array(A, "A", ndim=2)
+    n = A.shape[0]
+    if A.shape != (n, n) or n < 1 or n > 12:
+        raise ValueError(f"A must be a square matrix of size 1..12, got shape {A.shape}")
+    if not np.all((A == 0) | (A == 1)):
+        raise ValueError("A must hold only 0 and 1")
+    xs = list(range(n + 1))
+    Z = []
+    for x in xs:
+        mvm = np.vstack([np.ones((1, n)), x * A])
+        z = float(beta_sweep_reachable(mvm).column_sums[0])
+        Z.append(Fraction(round(z)))  # an integer (a count of weighted matchings) below 2^53
+    # Newton's divided differences on x = 0..n: the leading coefficient is M_n
+    coef = list(Z)
+    for k in range(1, n + 1):
+        for i in range(n, k - 1, -1):
+            coef[i] = (coef[i] - coef[i - 1]) / (xs[i] - xs[i - k])
+    lead = coef[n]
+    if lead.denominator != 1:
+        raise ArithmeticError("the interpolated leading coefficient is not an integer")
+    return int(lead)
+
+
+def event_orders(validation: object) -> dict[str, list[np.ndarray]]:
+    """The feasibility matrices of a binary validation matrix in four natural orders.
+
+    Each event is read as the tuple of the targets of measurements ``1..m`` (0: false);
+    the orders are odometer orders with measurement 1 changing fastest or measurement ``m``
+    changing fastest, each alone or after sorting by the number of detections. Returns
+    ``{name: list of feasibility matrices}``.
+    """
+    v = as_array(validation, "validation", ndim=2)
+    mats = list(iter_feasibility_matrices(v.astype(int)))
+    key = {id(om): tuple(int(np.flatnonzero(r)[0]) for r in om) for om in mats}
+    detections = {i: sum(t > 0 for t in a) for i, a in key.items()}
+    return {"measurement 1 fastest": sorted(mats, key=lambda om: key[id(om)][::-1]),
+            f"measurement {v.shape[0]} fastest": sorted(mats, key=lambda om: key[id(om)]),
+            "by detections, then measurement 1 fastest":
+                sorted(mats, key=lambda om: (detections[id(om)], key[id(om)][::-1])),
+            f"by detections, then measurement {v.shape[0]} fastest":
+                sorted(mats, key=lambda om: (detections[id(om)], key[id(om)]))}
 
 
 def clutter_sensitivity(measurements: object, z_pred: object, S: object, p_detect: object,

@@ -6,8 +6,9 @@ cells; these functions decide which value the paper's other tables support.
 against Table IV; :func:`table5_additions_rule` and :func:`table5_additions_proof` test
 Table V's additions against Table III's vector sizes; :func:`ratio_fits` and
 :func:`supported_value` read Table VI's printed savings ratios as evidence.
-:func:`grows_geometrically` and :func:`growth_readings` tabulate two readings of the
-claim that the vector length "does not increase appreciably" (Sec. III.B).
+:func:`grows_geometrically`, :func:`growth_readings` and :func:`relative_growth_table`
+tabulate three readings of the claim that the vector length "does not increase
+appreciably" (Sec. III.B), each run on a baseline.
 :func:`misprint_evidence` gathers, for every cell where Tables IV or V differ from the
 instrumented counts, the arithmetic that proves it misprinted, and
 :func:`count_table_verdict` turns it into a table's verdict. :func:`fast_count_readings` pins which words a stage of the fast algorithm computes on one
@@ -28,7 +29,8 @@ from .optables import all_ones_mvm, beta_in_situ, half_up
 
 __all__ = ["multiplication_rules", "rule_fits", "multiplication_rule_table",
            "table5_additions_rule", "table5_additions_proof", "ratio_fits", "supported_value",
-           "grows_geometrically", "growth_readings", "fast_count_readings", "misprint_evidence",
+           "grows_geometrically", "growth_readings", "relative_growth_table", "RELATIVE_FALL",
+           "LEVEL_OFF", "fast_count_readings", "misprint_evidence",
            "count_table_verdict"]
 
 Cell = tuple[int, int]
@@ -97,13 +99,16 @@ def table5_additions_rule(m: int, T: int) -> int:
     return m * T * sum(vector_size(m - 1, T - k) for k in range(T - 1))
 
 
-def table5_additions_proof(k: Cell, ours: Counts, printed: Counts) -> tuple[bool, str]:
+def table5_additions_proof(k: Cell, ours: Counts, printed: Counts,
+                           table3_sizes: Sequence[int] = range(3, 8)) -> tuple[bool, str]:
     """Does Table III's rule prove the printed Table V additions at cell ``k`` a misprint?
 
     Proven when :func:`table5_additions_rule` reproduces the printed additions of every
     other cell of ``printed``, all of them are multiples of ``m T`` while the printed value
     at ``k`` is not, and the rule gives our count ``ours[k]``. Returns ``(proven, text)``,
-    the text giving the numbers.
+    the text giving the numbers; a size ``V`` outside the printed Table III (rows and
+    columns ``table3_sizes``) is named as such: it comes from the formula the 25 printed
+    sizes follow, not from the table.
     """
     k = _cell(k)
     if k not in printed or k not in ours:
@@ -116,11 +121,19 @@ def table5_additions_proof(k: Cell, ours: Counts, printed: Counts) -> tuple[bool
     rule_k = table5_additions_rule(*k)
     proven = (fits == len(others) and multiples == len(others) and p % mT != 0
               and rule_k == ours[k][0])
-    terms = " + ".join(str(vector_size(k[0] - 1, k[1] - i)) for i in range(k[1] - 1))
-    text = (f"the rule additions = mT sum_(k=0..T-2) V(m-1, T-k) (V: Table III sizes) reproduces "
-            f"{fits}/{len(others)} other printed additions cells and {multiples}/{len(others)} of them "
-            f"are multiples of mT; the printed {p} is not ({p}/{mT} = "
+    shown = {as_int(x, "table3_sizes[]", minimum=1) for x in table3_sizes}
+    sizes = [(k[0] - 1, k[1] - i) for i in range(k[1] - 1)]
+    terms = " + ".join(str(vector_size(*v)) for v in sizes)
+    outside = [v for v in sizes if v[0] not in shown or v[1] not in shown]
+    text = (f"the rule additions = mT sum_(k=0..T-2) V(m-1, T-k) (V: the vector length, "
+            f"sum_(j >= max(0, m-T+1)) C(m, j), which gives all 25 printed Table III sizes) "
+            f"reproduces {fits}/{len(others)} other printed additions cells and {multiples}/{len(others)} "
+            f"of them are multiples of mT; the printed {p} is not ({p}/{mT} = "
             f"{p / mT:.2f}); the rule gives {mT} x ({terms}) = {rule_k}")
+    if outside:
+        text += ("; " + ", ".join(f"V({a}, {b}) = {vector_size(a, b)}" for a, b in outside)
+                 + " lie" + ("s" if len(outside) == 1 else "") + " outside the printed Table III: "
+                 "from its formula, as V(m-1, 2) is in every cell the rule fits")
     return proven, text
 
 
@@ -162,43 +175,103 @@ def _span(r: Sequence[int]) -> str:
     return f"{r[0]}..{r[-1]}"
 
 
-def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8)) -> pd.DataFrame:
-    """Two readings of "the vector length does not increase appreciably", each with a baseline.
+#: Reading 2 of the growth remark: the length over eq. (1) must fall at least this much per step.
+RELATIVE_FALL = 2.0
+#: Reading 3: the length must grow by less than this factor from T = 6 to T = 7 in every row.
+LEVEL_OFF = 1.1
 
-    1. absolute, along ``m = T``: the claim holds unless :func:`grows_geometrically` judges
+
+def _relative_candidates() -> dict[str, Callable[[int], int]]:
+    """Sizes along ``m = T = n`` judged against eq. (1) by reading 2 (the length and baselines)."""
+    from math import factorial
+
+    return {"vector length (Table III)": lambda n: vector_size(n, n),
+            "eq. (1) itself": lambda n: count_feasible_events(n, n),
+            "eq. (1) of m - 1, T - 1": lambda n: count_feasible_events(n - 1, n - 1),
+            "n!": factorial,
+            "n 2^n": lambda n: n * 2**n}
+
+
+def relative_growth_table(diag: Sequence[int] = range(3, 8)) -> pd.DataFrame:
+    """Reading 2 of "does not increase appreciably", run on the length and on baselines.
+
+    For each candidate size along ``m = T = n`` (the Table III length, eq. (1) itself, eq. (1)
+    of the problem one size smaller, ``n!`` and ``n 2^n``), the factor by which
+    ``size / eq. (1)`` falls at each step of ``diag`` (smallest and largest) and whether it
+    falls by at least :data:`RELATIVE_FALL` at every step. Eq. (1) and its smaller problem
+    grow combinatorially and must fail; an exponential size is small next to eq. (1) and
+    passes, as the reading intends.
+    """
+    diag = [as_int(x, "diag[]", minimum=2) for x in diag]
+    if len(diag) < 2:
+        raise ValueError("diag needs at least two sizes")
+    rows = []
+    for name, f in _relative_candidates().items():
+        r = [f(n) / count_feasible_events(n, n) for n in diag]
+        falls = [a / b for a, b in zip(r[:-1], r[1:])]
+        rows.append({"size along m = T": name, "smallest fall per step": min(falls),
+                     "largest fall per step": max(falls),
+                     f"falls >= {RELATIVE_FALL:g}x at every step": bool(min(falls) >= RELATIVE_FALL)})
+    return pd.DataFrame(rows)
+
+
+def growth_readings(growth: pd.DataFrame, diag: Sequence[int] = range(3, 8),
+                    table_sizes: Sequence[int] = range(3, 8)) -> pd.DataFrame:
+    """Three readings of "the vector length does not increase appreciably", each with a baseline.
+
+    1. *absolute, along* ``m = T``: the claim holds unless :func:`grows_geometrically` judges
        ``growth["vector length"]`` (a :func:`~projtrack.experiments.jpda.vector_growth`
-       table) geometric; the baseline ``n + 1`` (the length of a column of beta) passes.
-    2. relative to eq. (1), the comparison the text itself makes: the length over the event
-       count falls at every step along ``m = T`` in ``diag``; the baseline (eq. (1) over
-       itself) fails.
+       table) geometric; the baseline ``n + 1`` (the length of a column of beta), which does
+       not grow appreciably, must pass.
+    2. *relative to eq. (1)*, the comparison the text itself makes: the length over the event
+       count falls by at least :data:`RELATIVE_FALL` at every step along ``m = T`` in ``diag``;
+       the baseline eq. (1) of the problem one size smaller, which grows combinatorially,
+       must fail (:func:`relative_growth_table` runs more baselines).
+    3. *in* ``T`` *at fixed* ``m`` (the rows of Table III): the length grows by less than
+       :data:`LEVEL_OFF` from the last ``T`` but one to the last of ``table_sizes``, in every
+       row ``m`` of ``table_sizes``; the baseline eq. (1) at fixed ``m`` must fail.
 
-    A third reading, "in ``T`` at fixed ``m``", is not a test: a vector indexed by subsets of
-    the ``m`` measurements has at most ``2^m`` elements whatever ``T``, so no criterion of
-    the form "stays bounded in ``T``" can fail for it.
-
-    One row per reading with the values it judges, ``claim holds`` and ``baseline passes``.
+    One row per reading: ``values`` (what the length gives), ``claim holds``, ``baseline`` and
+    ``baseline holds``.
     """
     if not isinstance(growth, pd.DataFrame) or "vector length" not in growth:
         raise TypeError("growth must be a vector_growth table (a DataFrame with 'vector length')")
-    diag = [as_int(x, "diag[]", minimum=1) for x in diag]
+    diag = [as_int(x, "diag[]", minimum=2) for x in diag]
     if len(diag) < 2:
         raise ValueError("diag needs at least two sizes")
+    sizes = [as_int(x, "table_sizes[]", minimum=1) for x in table_sizes]
+    if len(sizes) < 2:
+        raise ValueError("table_sizes needs at least two sizes")
     lengths = growth["vector length"]
     n = lengths.index
-    vec_geometric = grows_geometrically(lengths)
-    baseline_geometric = grows_geometrically({i: i + 1 for i in n})
     step = lengths.iloc[-1] / lengths.iloc[-2]
-    rel = [vector_size(i, i) / count_feasible_events(i, i) for i in diag]
-    rel_falls = bool(np.all(np.diff(rel) < 0))
-    rel_baseline_falls = bool(np.all(np.diff(np.ones(len(diag))) < 0))  # eq. (1) / eq. (1)
+    rel = relative_growth_table(diag).set_index("size along m = T")
+    ok2 = f"falls >= {RELATIVE_FALL:g}x at every step"
+    T0, T1 = sizes[-2], sizes[-1]
+
+    def levels_off(f: Callable[[int, int], int]) -> tuple[bool, float, float]:
+        g = [f(m, T1) / f(m, T0) for m in sizes]
+        return bool(max(g) < LEVEL_OFF), min(g), max(g)
+
+    hold3, lo3, hi3 = levels_off(vector_size)
+    base3, blo3, bhi3 = levels_off(count_feasible_events)
     return pd.DataFrame([
         {"reading": "1. absolute, along m = T",
          "values": ", ".join(str(vector_size(i, i)) for i in diag)
          + f" (m = T = {_span(diag)}); x{step:.2f} from {n[-2]} to {n[-1]}",
-         "claim holds": not vec_geometric, "baseline passes": not baseline_geometric},
+         "claim holds": not grows_geometrically(lengths),
+         "baseline": "m + 1 (a column of beta)",
+         "baseline holds": not grows_geometrically({i: i + 1 for i in n})},
         {"reading": "2. relative to eq. (1)",
-         "values": ", ".join(f"{r:.2g}" for r in rel) + f" (m = T = {_span(diag)})",
-         "claim holds": rel_falls, "baseline passes": rel_baseline_falls},
+         "values": f"falls x{rel.iloc[0, 0]:.1f} to x{rel.iloc[0, 1]:.1f} per step (m = T = {_span(diag)})",
+         "claim holds": bool(rel.iloc[0][ok2]),
+         "baseline": f"eq. (1) of m - 1, T - 1 (x{rel.iloc[2, 0]:.2f} to x{rel.iloc[2, 1]:.2f})",
+         "baseline holds": bool(rel.iloc[2][ok2])},
+        {"reading": "3. in T at fixed m",
+         "values": f"x{lo3:.2f} to x{hi3:.2f} from T = {T0} to {T1} (m = {_span(sizes)})",
+         "claim holds": hold3,
+         "baseline": f"eq. (1) at fixed m (x{blo3:.2f} to x{bhi3:.2f})",
+         "baseline holds": base3},
     ])
 
 

@@ -8,7 +8,8 @@ and :func:`parse_ratio_table` read the paper's printed tables (transcribed as te
 the vector length and the fast algorithm's cost along ``m = T``. :func:`beta_in_situ`
 runs the fast algorithm with one working vector, counting the vectors it forms (Sec. III:
 "only T^2 vectors ... stored in situ"), and :func:`in_situ_study` runs it on random MVMs (:func:`in_situ_summary` per ``T``);
-:func:`savings` and :func:`savings_paths` give the savings factor past Table VI.
+:func:`savings`, :func:`savings_paths` and :func:`savings_orders` give the savings factor
+past Table VI and how fast it grows.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from projtrack.scenes.jpda import random_mvm
 
 __all__ = ["all_ones_mvm", "instrumented_counts", "count_grid", "parse_count_table",
            "parse_ratio_table", "half_up", "vector_growth", "InSituRun", "beta_in_situ",
-           "in_situ_study", "in_situ_summary", "savings", "savings_paths"]
+           "in_situ_study", "in_situ_summary", "savings", "savings_paths", "savings_orders"]
 
 Counts = dict[tuple[int, int], tuple[int, int]]
 
@@ -161,6 +162,10 @@ class InSituRun:
     ops : OpCount
         Additions and multiplications executed (the convention of
         :class:`projtrack.jpda.OpCount`).
+    column_sums : ndarray, shape (T,)
+        The sums of the unnormalized columns ``A b'`` of eq. (6). Sec. III.D normalizes every
+        column by the sum of any one of them, which is right when they are all equal (to the
+        sum of the probabilities of all feasible events).
     """
 
     beta: np.ndarray
@@ -168,6 +173,7 @@ class InSituRun:
     vectors_per_target: tuple[int, ...]
     buffer_length: int
     ops: OpCount
+    column_sums: np.ndarray
 
 
 def _as_mvm(mvm: object) -> np.ndarray:
@@ -182,7 +188,8 @@ def _as_mvm(mvm: object) -> np.ndarray:
     return w
 
 
-def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed") -> InSituRun:
+def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed",
+                 length: str = "table") -> InSituRun:
     """The paper's fast algorithm (Secs. III.B-D) with a single working vector, instrumented.
 
     Every target vector (``T``, ``T - 1``, ..., ``2``) is written over the previous one in
@@ -200,12 +207,20 @@ def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed") ->
     the words this leaves wrong are never read by eq. (6)). The two differ only in the
     operation count (a reading of Table V).
 
+    ``length="table"`` sizes the working vector as Table III does (words of at least
+    ``max(0, m - T + 1)`` bits, :func:`projtrack.jpda.vector_size`); ``length="text"`` as the
+    sentence of Sec. III prints it, from ``max(1, m - T + 1)`` bits
+    (:func:`projtrack.jpda.vector_size_text_formula`): the buffer then has no element for
+    the empty word, terms that read it are lost, and beta is wrong whenever ``m < T`` (the
+    check that the text's length cannot hold the algorithm's vectors).
+
     Parameters
     ----------
     mvm : array_like, shape (m + 1, T)
         A modified validation matrix (nonnegative; ``m <= 16``).
     order : {"paper", "reversed"}
     words : {"needed", "all"}
+    length : {"table", "text"}
 
     Returns
     -------
@@ -219,10 +234,12 @@ def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed") ->
     w = _as_mvm(mvm)
     order = as_choice(order, "order", ("paper", "reversed"))
     words = as_choice(words, "words", ("needed", "all"))
+    length = as_choice(length, "length", ("table", "text"))
     m1, T = w.shape
     m = m1 - 1
     full = (1 << m) - 1
-    vec_words = mu_words(m, max(0, m - T + 1)).tolist()  # Table II order, Table III length
+    lowest = max(0 if length == "table" else 1, m - T + 1)
+    vec_words = mu_words(m, lowest).tolist()  # Table II order, Table III (or the text's) length
     pos = {x: i for i, x in enumerate(vec_words)}
     bits = {x: [j for j in range(m) if (x >> j) & 1] for x in vec_words}
     buf = [0.0] * len(vec_words)  # the one working vector
@@ -260,14 +277,16 @@ def beta_in_situ(mvm: object, *, order: str = "paper", words: str = "needed") ->
                     buf[pos[x]] = s  # in situ: overwrites the old element of the same word
                     ops.add(n_add=n - 1, n_mul=n)
                 formed += 1
-            b_prime = [buf[pos[full]]] + [buf[pos[full ^ (1 << j)]] for j in range(m)]
+            # a word the buffer does not hold (the text's length, m = 1) has no value: 0
+            b_prime = [buf[pos[x]] if x in pos else 0.0
+                       for x in [full] + [full ^ (1 << j) for j in range(m)]]
         out[:, t] = w[:, cols[0]] * np.array(b_prime)  # eq. (6): A b'
         ops.add(n_mul=m1)
         per_target.append(formed + 1)
     Z = out.sum(axis=0)
     if not np.all(Z > 0):
         raise ValueError("no feasible joint event of mvm has positive probability")
-    return InSituRun(out / Z, sum(per_target), tuple(per_target), len(buf), ops)
+    return InSituRun(out / Z, sum(per_target), tuple(per_target), len(buf), ops, Z)
 
 
 def in_situ_study(sizes: Sequence[int], seed: int) -> pd.DataFrame:
@@ -277,8 +296,9 @@ def in_situ_study(sizes: Sequence[int], seed: int) -> pd.DataFrame:
     ``m`` outer, ``T`` inner. One row per ``(m, T)``: the vectors formed (and ``T^2``), the
     working-vector length (and Table III's), whether beta equals the enumeration
     (:func:`projtrack.jpda.beta_enumerated`) to ``1e-12``, whether the operation count
-    equals :func:`projtrack.jpda.beta_paper`'s (Table V), and the largest beta error with
-    the words visited in the reversed order.
+    equals :func:`projtrack.jpda.beta_paper`'s (Table V), and the largest beta errors with
+    the words visited in the reversed order and with a working vector of the text's length
+    (``length="text"``).
     """
     sizes = _sizes(sizes)
     seed = as_int(seed, "seed", minimum=0)
@@ -297,7 +317,9 @@ def in_situ_study(sizes: Sequence[int], seed: int) -> pd.DataFrame:
                          "ops = Table V count": (run.ops.additions, run.ops.multiplications)
                          == (paper_ops.additions, paper_ops.multiplications),
                          "reversed order: max |beta error|":
-                             float(np.abs(beta_in_situ(w, order="reversed").beta - ref).max())})
+                             float(np.abs(beta_in_situ(w, order="reversed").beta - ref).max()),
+                         "text's length: max |beta error|":
+                             float(np.abs(beta_in_situ(w, length="text").beta - ref).max())})
     return pd.DataFrame(rows)
 
 
@@ -339,27 +361,66 @@ def savings_paths(ns: Sequence[int], fixed: int = 3, diagonal_max: int = 12) -> 
                          for n in ns])
 
 
+def savings_orders(ns: Sequence[int], fixed: int = 3, diagonal_max: int = 12) -> pd.DataFrame:
+    """How fast the savings factor grows along the three paths of :func:`savings_paths`.
+
+    One row per path (``m = T = n`` up to ``diagonal_max``, ``m = fixed`` with ``T = n``,
+    ``T = fixed`` with ``m = n``): the sizes spanned, the additions and multiplications
+    savings at the first and last size (rounded half-up, as Table VI), and the local
+    exponent ``d ln(saving) / d ln(n)`` between the last two sizes of the path (1 for
+    linear growth, 2 for quadratic, near 0 when the saving levels off). ``ns`` needs at
+    least two sizes at most ``diagonal_max``.
+    """
+    ns = sorted(set(_sizes(ns)))
+    fixed = as_int(fixed, "fixed", minimum=1)
+    diagonal_max = as_int(diagonal_max, "diagonal_max", minimum=1, maximum=16)
+    diag = [n for n in ns if n <= diagonal_max]
+    if len(diag) < 2:
+        raise ValueError(f"ns needs at least two sizes <= diagonal_max = {diagonal_max}")
+    rows = []
+    for name, sizes, mt in (("m = T = n", diag, lambda n: (n, n)),
+                            (f"m = {fixed}, T = n", ns, lambda n: (fixed, n)),
+                            (f"T = {fixed}, m = n", ns, lambda n: (n, fixed))):
+        (c0, f0), (c1, f1), (cp, fp) = ((conventional_op_count(*mt(n)), fast_op_count(*mt(n)))
+                                        for n in (sizes[0], sizes[-1], sizes[-2]))
+        step = np.log(sizes[-1] / sizes[-2])
+        rows.append({"path": name, "n": f"{sizes[0]} to {sizes[-1]}",
+                     "additions saved": f"{half_up(c0.additions, f0.additions):.1f} to "
+                                        f"{half_up(c1.additions, f1.additions):.1f}",
+                     "multiplications saved": f"{half_up(c0.multiplications, f0.multiplications):.1f} to "
+                                              f"{half_up(c1.multiplications, f1.multiplications):.1f}",
+                     "exponent (additions)": float(np.log((c1.additions / f1.additions)
+                                                          / (cp.additions / fp.additions)) / step),
+                     "exponent (multiplications)": float(np.log((c1.multiplications / f1.multiplications)
+                                                                / (cp.multiplications / fp.multiplications)) / step)})
+    return pd.DataFrame(rows)
+
+
 def in_situ_summary(study: pd.DataFrame) -> pd.DataFrame:
     """One row per ``T`` of an :func:`in_situ_study` table, over all its ``m``.
 
     Columns: ``T``; ``vectors formed`` (the count when every ``m`` gives the same, else -1);
-    ``T^2``; ``working vector`` (its length for each ``m``, as text); ``one vector, exact``
+    ``working vector`` (its length for each ``m``, as text); ``one vector, exact``
     (every run formed its vectors in a working vector of the Table III length, with beta
-    equal to the enumeration and Table V's operation count); and the largest beta error of
-    the reversed visiting order.
+    equal to the enumeration and Table V's operation count); the largest beta error of
+    the reversed visiting order; and the largest beta error with the working vector of the
+    text's length over the runs with ``m < T`` (NaN when there is none: for ``m >= T`` the
+    two lengths are equal).
     """
     need = {"m", "T", "vectors formed", "T^2", "working vector", "Table III", "beta exact",
-            "ops = Table V count", "reversed order: max |beta error|"}
+            "ops = Table V count", "reversed order: max |beta error|", "text's length: max |beta error|"}
     if not isinstance(study, pd.DataFrame) or not need <= set(study.columns) or study.empty:
         raise ValueError("study must be a non-empty in_situ_study table")
     rows = []
     for T, g in study.groupby("T", sort=True):
         counts = set(g["vectors formed"])
+        short = g[g["m"] < T]
         rows.append({"T": int(T), "vectors formed": int(counts.pop()) if len(counts) == 1 else -1,
-                     "T^2": int(T) ** 2,
                      "working vector, m = " + f"{g['m'].min()}..{g['m'].max()}":
                          ", ".join(str(x) for x in g["working vector"]),
                      "one vector, exact": bool((g["working vector"] == g["Table III"]).all()
                                                and g["beta exact"].all() and g["ops = Table V count"].all()),
-                     "reversed order: largest error": float(g["reversed order: max |beta error|"].max())})
+                     "reversed order: largest error": float(g["reversed order: max |beta error|"].max()),
+                     "text's length: largest error (m < T)":
+                         float(short["text's length: max |beta error|"].max()) if len(short) else np.nan})
     return pd.DataFrame(rows)

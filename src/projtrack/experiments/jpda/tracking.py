@@ -4,7 +4,8 @@ A trial draws one :func:`projtrack.scenes.jpda.crossing_targets` scene, tracks i
 :class:`projtrack.jpda.JPDATracker` and :class:`projtrack.jpda.GNNTracker` started on the
 true initial states, and scores both against the ground truth (:func:`score_tracks`).
 :func:`tracking_study` runs the trials through :func:`projtrack.montecarlo.run` and
-:func:`tracking_summary` tabulates them with their tolerances.
+:func:`tracking_summary` tabulates them with their tolerances; :func:`tracking_sampling` gives
+the sampling error of the share of tracks swapped or lost.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from projtrack.jpda import GNNTracker, JPDATracker
 from projtrack.scenes.jpda import CrossingScene, crossing_targets
 from projtrack.tolerance import Tolerance, mean_over, statistical
 
-__all__ = ["score_tracks", "run_trackers", "tracking_trial", "tracking_study", "tracking_summary"]
+__all__ = ["score_tracks", "run_trackers", "tracking_trial", "tracking_study", "tracking_summary",
+           "tracking_sampling"]
 
 
 def score_tracks(estimates: np.ndarray, truth: np.ndarray, lost_distance: float = 3.0) -> dict:
@@ -134,4 +136,42 @@ def tracking_summary(results: Sequence[dict]) -> tuple[pd.DataFrame, dict[str, T
                                               f"by at most 1/{n_runs}")
     tolerance = {"mean RMSE": mean_over(n_runs, max(worst, 1e-12), what="run"),
                  "tracks swapped": flip, "tracks lost": flip, "runs all correct": flip}
+    return pd.DataFrame(rows), tolerance
+
+
+def tracking_sampling(results: Sequence[dict]) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """Share of tracks swapped or lost, with its standard error over runs, and the paired difference.
+
+    The runs are the independent units (the tracks of one run share a scene), so the
+    standard error is the standard deviation over runs of the per-run share, over
+    ``sqrt(n_runs)``. Both trackers see the same scenes, so their difference is taken run by
+    run (paired). Rows: ``JPDA``, ``GNN`` and ``JPDA - GNN (paired)``; columns ``tracker``,
+    ``swapped or lost`` and ``standard error (runs)``.
+
+    The tolerances are one run changing outcome: it moves a run's share by at most 1 (2 for
+    the difference, when both trackers change), the mean by that over ``n_runs`` and the
+    standard error by at most that over ``sqrt(n_runs (n_runs - 1))`` (a standard deviation
+    moves by at most the change of one value over ``sqrt(n_runs - 1)``).
+
+    Returns
+    -------
+    table : pandas.DataFrame
+    tolerance : dict of str to Tolerance
+    """
+    if len(results) < 2:
+        raise ValueError("results must hold at least two trials (a standard error needs two)")
+    tracking_summary(results)  # the same checks of the results' form
+    bad = {k: np.array([(r[k]["swapped"] + r[k]["lost"]) / r[k]["tracks"] for r in results])
+           for k in ("jpda", "gnn")}
+    n = len(results)
+    rows = []
+    for name, x in (("JPDA", bad["jpda"]), ("GNN", bad["gnn"]), ("JPDA - GNN (paired)", bad["jpda"] - bad["gnn"])):
+        rows.append({"tracker": name, "swapped or lost": float(x.mean()),
+                     "standard error (runs)": float(x.std(ddof=1) / np.sqrt(n))})
+    tolerance = {"swapped or lost": statistical(atol=2 / n, why=(
+        f"one of {n} runs changing outcome moves its share of bad tracks by at most 1 (2 for the "
+        f"difference of the two trackers), the mean by at most 2/{n}")),
+        "standard error (runs)": statistical(atol=2 / np.sqrt(n * (n - 1)), why=(
+            f"one run changing outcome (a change of at most 2 in one of {n} values) moves a standard "
+            f"deviation over runs by at most 2/sqrt({n - 1}), the standard error by 2/sqrt({n} x {n - 1})"))}
     return pd.DataFrame(rows), tolerance

@@ -10,20 +10,42 @@ the results of running :func:`comparison_trial` trial by trial:
 * :func:`comparison_cells`: the per-run and per-data-set arrays of several cells;
 * :func:`accuracy`: the percentage of correct assignments of the net and of every reference;
 * :func:`noise_sweep`, :func:`size_sweep`: the rows of the chapter's two comparison tables.
+
+Other update rules of the same energy. Sec. VI updates the neurons serially and says this
+"results in faster convergence than if all new neuron states are calculated in parallel and
+simultaneously fed back, as is usually done": :func:`update_order_study` runs both orders on the
+same data sets and starts. The chapter's fixed-point bound shows that a neuron-by-neuron rule of
+eq. (4) cannot keep a noisy correct assignment, whatever the start; the nearest rule that keeps
+the paper's energy, its binary neurons and its serial sweeps, and does find noisy tracks, updates
+the neurons of one *frame* together. With the other frames fixed, terms 1-3 of eq. (8) vanish on
+every admissible state of the frame and term 4 is linear in it, so the frame's state of least
+energy is a linear assignment (:func:`frame_descent`, from the admissible state nearest to the
+net's start, :func:`nearest_admissible`; :func:`frame_rule_study` on the Table 1 data sets,
+:func:`frame_rule_table` beside the paper's Table 1). Every
+state stays admissible, the energy falls at every change, and the run stops at a state no single
+frame can improve. :func:`plot_comparison` and :func:`plot_timing` draw the page's figures.
 """
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
 
 from projtrack import montecarlo
-from projtrack._validation import as_int, as_real
+from projtrack._validation import as_array, as_int, as_real
+from projtrack.neuralnet import assignment_cost, is_correct_assignment
+from projtrack.neuralnet._checks import _check_D
+from projtrack.tolerance import EXACT, Tolerance, mean_over, share
 
 from .table1 import draw_simulation, run_draws, score_simulation, simulate
 
-__all__ = ["METHODS", "comparison_trial", "comparison_cells", "accuracy", "noise_sweep", "size_sweep"]
+__all__ = ["METHODS", "comparison_trial", "comparison_cells", "accuracy", "noise_sweep", "size_sweep",
+           "nearest_admissible", "frame_descent", "frame_rule_study", "frame_rule_table", "update_order_study",
+           "plot_comparison",
+           "plot_timing"]
 
 #: The compared methods and the key of their per-run or per-data-set success in :func:`simulate`.
 METHODS = {"net": "correct", "optimum": "optimal_correct", "coordinate descent": "cd_correct",
@@ -167,3 +189,240 @@ def size_sweep(sizes: Sequence[int], noise_levels: Sequence[float], n_datasets: 
                      "net converged %": 100 * float(conv.mean()),
                      "net iterations": float(res["iterations"][conv].mean()) if conv.any() else float("nan")})
     return rows
+
+
+# ----------------------------------------------------------------------------- other update rules
+
+
+def nearest_admissible(X0: np.ndarray) -> np.ndarray:
+    """The admissible assignment closest to an analog state: per frame, the largest summed value.
+
+    Parameters
+    ----------
+    X0 : array_like, shape (N_T, N_M, N_P), ``N_T <= N_M``
+        E.g. a perturbed all-equal start (:func:`projtrack.neuralnet.initial_states`).
+
+    Returns
+    -------
+    ndarray of int, shape (N_T, N_P)
+        Measurement of target ``i`` in frame ``a``; distinct within a frame.
+    """
+    X0 = as_array(X0, "X0")
+    if X0.ndim != 3 or X0.shape[0] > X0.shape[1]:
+        raise ValueError(f"X0 must have shape (N_T, N_M, N_P) with N_T <= N_M, got {X0.shape}")
+    A = np.empty((X0.shape[0], X0.shape[2]), dtype=np.intp)
+    for a in range(X0.shape[2]):
+        rows, cols = linear_sum_assignment(X0[:, :, a], maximize=True)
+        A[rows, a] = cols
+    return A
+
+
+def _frame_cost(D: np.ndarray, A: np.ndarray, f: int) -> np.ndarray:
+    """Cost of every (target, measurement) choice in frame ``f`` with the other frames fixed."""
+    n_t, n_p = A.shape
+    M = np.zeros((n_t, D.shape[1]))
+    if f + 2 < n_p:
+        M += D[f][:, A[:, f + 1], A[:, f + 2]].T
+    if 1 <= f <= n_p - 2:
+        M += D[f - 1][A[:, f - 1], :, A[:, f + 1]]
+    if f >= 2:
+        M += D[f - 2][A[:, f - 2], A[:, f - 1], :]
+    return M
+
+
+def frame_descent(D: np.ndarray, initial: np.ndarray, max_rounds: int = 50) -> tuple[np.ndarray, int, bool]:
+    """Serial frame-by-frame descent of the energy of eq. (8) over admissible states.
+
+    A round visits the frames in order; each frame takes the assignment of least energy given
+    the others (a linear assignment on the summed eq. (7) distances of the triples containing
+    it). On admissible states terms 1-3 of eq. (8) vanish, so the energy is ``A4`` times
+    :func:`projtrack.neuralnet.assignment_cost` and does not depend on the unit of D. A frame
+    keeps its assignment unless another one is strictly cheaper (by more than ``1e-12``
+    relative), so the run stops.
+
+    Parameters
+    ----------
+    D : array_like, shape (N_P - 2, N_M, N_M, N_M)
+    initial : array_like of int, shape (N_T, N_P), ``N_T <= N_M``
+        An admissible start (:func:`nearest_admissible`).
+    max_rounds : int, default 50
+        The paper's iteration limit.
+
+    Returns
+    -------
+    assignment : ndarray of int, shape (N_T, N_P)
+    rounds : int
+        Rounds that changed the state (the confirming round is not counted), or ``max_rounds``.
+    converged : bool
+        Whether a round changed nothing within ``max_rounds``.
+    """
+    D = _check_D(D)
+    A = np.array(as_array(initial, "initial"), dtype=np.intp)
+    n_p = D.shape[0] + 2
+    if A.ndim != 2 or A.shape[1] != n_p or A.shape[0] > D.shape[1]:
+        raise ValueError(f"initial must have shape (N_T <= {D.shape[1]}, {n_p}), got {A.shape}")
+    assignment_cost(A, D)  # validates the entries
+    if any(len(set(A[:, a])) != A.shape[0] for a in range(n_p)):
+        raise ValueError("initial must be admissible: distinct measurements within each frame")
+    max_rounds = as_int(max_rounds, "max_rounds", minimum=1)
+    rows = np.arange(A.shape[0])
+    for r in range(max_rounds):
+        changed = False
+        for f in range(n_p):
+            M = _frame_cost(D, A, f)
+            _, best = linear_sum_assignment(M)
+            now, new = M[rows, A[:, f]].sum(), M[rows, best].sum()
+            if new < now - 1e-12 * max(1.0, abs(now)):
+                A[:, f] = best
+                changed = True
+        if not changed:
+            return A, r, True
+    return A, max_rounds, False
+
+
+def frame_rule_study(noise_levels: Sequence[float], n_runs: int, chunk: int, seed: int
+                     ) -> dict[float, dict[str, np.ndarray]]:
+    """:func:`frame_descent` on the data sets and starts of ``table1_study(noise_levels, n_runs, chunk, seed)``.
+
+    Level ``i`` draws the same ``n_runs // chunk`` trials from ``numpy.random.default_rng(seed + i)``;
+    every run starts from :func:`nearest_admissible` of the net's start.
+
+    Returns
+    -------
+    dict
+        Per level: ``correct`` (the true tracks), ``converged`` and ``rounds``, arrays of length
+        ``n_runs``.
+    """
+    levels = [as_real(n, "noise level", 0.0) for n in noise_levels]
+    n_runs = as_int(n_runs, "n_runs", minimum=1)
+    chunk = as_int(chunk, "chunk", minimum=1)
+    if n_runs % chunk:
+        raise ValueError(f"n_runs = {n_runs} must be a multiple of chunk = {chunk}")
+    seed = as_int(seed, "seed", minimum=0)
+    out = {}
+    for i, n in enumerate(levels):
+        draws = montecarlo.run(draw_simulation, n_runs // chunk, np.random.default_rng(seed + i), chunk, 1, n)
+        ok, conv, rounds = [], [], []
+        for d in draws:
+            for scene, D, X0 in zip(d.scenes, d.D, d.X0):
+                A, r, c = frame_descent(D, nearest_admissible(X0))
+                ok.append(c and is_correct_assignment(A, scene.labels))
+                conv.append(c)
+                rounds.append(r)
+        out[n] = {"correct": np.array(ok), "converged": np.array(conv), "rounds": np.array(rounds)}
+    return out
+
+
+def update_order_study(noise_levels: Sequence[float], units: Sequence[float], n_runs: int, chunk: int,
+                       seed: int) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """Serial against parallel neuron updates (eq. (9) as printed) on the same data sets and starts.
+
+    Cell (unit ``j``, level ``i``) draws ``n_runs // chunk`` trials of ``chunk`` simulations from
+    ``numpy.random.default_rng([seed, j, i])``; both orders run on these draws.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Per unit and level: ``unit (px)``, ``noise %``, and for each order (``serial``,
+        ``parallel``) the percentage of runs that converged and the mean number of ``sweeps``
+        (a run that does not converge counting the limit of 50).
+    tolerance : dict of str to Tolerance
+        Shares of ``n_runs`` runs; means over ``n_runs`` runs of at most 50 sweeps each.
+    """
+    levels = [as_real(n, "noise level", 0.0) for n in noise_levels]
+    units = [as_real(u, "unit", 0.0, low_open=True) for u in units]
+    if not levels or not units:
+        raise ValueError("noise_levels and units must not be empty")
+    n_runs = as_int(n_runs, "n_runs", minimum=1)
+    chunk = as_int(chunk, "chunk", minimum=1)
+    if n_runs % chunk:
+        raise ValueError(f"n_runs = {n_runs} must be a multiple of chunk = {chunk}")
+    seed = as_int(seed, "seed", minimum=0)
+    rows = []
+    for j, u in enumerate(units):
+        draws = {n: montecarlo.run(draw_simulation, n_runs // chunk, np.random.default_rng([seed, j, i]), chunk, 1,
+                                   n, unit=u) for i, n in enumerate(levels)}
+        flat = [d for n in levels for d in draws[n]]
+        by_mode = {mode: iter(run_draws(flat, mode=mode)) for mode in ("serial", "parallel")}
+        for n in levels:
+            row = {"unit (px)": int(u) if float(u).is_integer() else u, "noise %": n}
+            for mode, results in by_mode.items():
+                res = [next(results) for _ in draws[n]]
+                row[f"{mode} converged %"] = 100 * float(np.concatenate([r.converged for r in res]).mean())
+                row[f"{mode} sweeps"] = float(np.concatenate([r.iterations for r in res]).mean())
+            rows.append(row)
+    runs = share(n_runs, percent=True)
+    sweeps = mean_over(n_runs, 50.0, what="run")
+    return pd.DataFrame(rows), {"noise %": EXACT, "serial converged %": runs, "parallel converged %": runs,
+                                "serial sweeps": sweeps, "parallel sweeps": sweeps}
+
+
+def frame_rule_table(frames: Mapping[float, Mapping[str, np.ndarray]], paper_k: Sequence[int]
+                     ) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """The frame-by-frame rule per noise level, beside the paper's Table 1.
+
+    Parameters
+    ----------
+    frames : mapping noise level -> dict of arrays
+        :func:`frame_rule_study`.
+    paper_k : sequence of int
+        The paper's successes out of ten, one per level.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``noise %``, ``paper k/10``, ``correct %``, ``stopped wrong %`` (converged to a wrong
+        assignment) and ``rounds`` (mean).
+    tolerance : dict of str to Tolerance
+        Shares of the runs of a level; the mean rounds move by one run changing its count by
+        up to 50 rounds.
+    """
+    if not isinstance(frames, Mapping) or not frames:
+        raise TypeError("frames must be a non-empty mapping of noise level -> arrays")
+    paper_k = list(paper_k)
+    if len(paper_k) != len(frames):
+        raise ValueError(f"paper_k has {len(paper_k)} levels, frames {len(frames)}")
+    rows = [{"noise %": n, "paper k/10": int(k), "correct %": 100 * float(np.mean(f["correct"])),
+             "stopped wrong %": 100 * float(np.mean(np.asarray(f["converged"]) & ~np.asarray(f["correct"]))),
+             "rounds": float(np.mean(f["rounds"]))} for (n, f), k in zip(frames.items(), paper_k)]
+    n = min(len(f["correct"]) for f in frames.values())
+    return pd.DataFrame(rows), {"noise %": EXACT, "rounds": mean_over(n, 50.0, what="run"),
+                                "*": share(n, percent=True)}
+
+
+# ----------------------------------------------------------------------------- figures
+
+
+def plot_comparison(acc_noise, acc_size, styles: Mapping[str, str]):
+    """Correct assignments of every method (a) against noise, four targets, and (b) against the
+    number of targets, noise-free."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(6.4, 3.0), sharey=True)
+    s0 = acc_size[acc_size["noise %"] == 0.0]
+    for name, st in styles.items():
+        axes[0].plot(acc_noise["noise %"], acc_noise[name], st, ms=4, label=name)
+        axes[1].plot(s0["targets"], s0[name], st, ms=4)
+    axes[0].set_xlabel("noise, %")
+    axes[0].set_ylabel("correct, %")
+    axes[0].set_title("(a) four targets")
+    axes[1].set_xlabel("targets $N_T = N_M$")
+    axes[1].set_title("(b) noise-free")
+    fig.legend(*axes[0].get_legend_handles_labels(), frameon=False, loc="lower center", ncol=3,
+               bbox_to_anchor=(0.5, -0.12))
+    fig.tight_layout()
+    return fig
+
+
+def plot_timing(timing, styles: Sequence[str]):
+    """Time per data set (ms, log scale) of every method against the number of targets."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.0))
+    for col, st in zip(timing.columns, styles):
+        ax.semilogy(timing.index, timing[col], st, ms=4, label=col)
+    ax.set_xlabel("targets $N_T = N_M$")
+    ax.set_ylabel("time per data set, ms")
+    ax.legend(frameon=False, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    fig.tight_layout()
+    return fig

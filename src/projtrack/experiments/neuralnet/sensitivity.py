@@ -10,24 +10,29 @@ criterion (:mod:`projtrack.experiments.neuralnet.criterion`):
 * :func:`sensitivity_readings`: the grid of readings (rule, noise law, unit);
 * :func:`sensitivity_seed`: the seed of one cell (reading x noise level);
 * :func:`sensitivity_study`: every cell run (noise-free cells shared across noise laws), as a
-  table of successes and wrong convergences;
-* :func:`sensitivity_verdicts`: one row per reading, its rates and its probability of a ten-run
-  table at least as good as the paper's.
+  table of how its runs end (:data:`MODES`);
+* :func:`sensitivity_table`: the same as shares, with their tolerances;
+* :func:`sensitivity_verdicts`: one row per reading, its probability of a ten-run table at least
+  as good as the paper's, and of failures like the paper's;
+* :func:`plot_readings`: the readings' figure.
 """
 
 from __future__ import annotations
 
 from typing import Any, Sequence
 
+import numpy as np
 import pandas as pd
 
 from projtrack._validation import as_int, as_probability, as_real
+from projtrack.tolerance import EXACT, Tolerance, share, statistical
 
-from .criterion import p_table, rate_ci
+from .criterion import mode_probability, p_table, rate_ci, stable_up
 from .studies import sensitivity_cells
+from .table1 import MODES
 
 __all__ = ["SENSITIVITY_RULES", "sensitivity_readings", "sensitivity_seed", "sensitivity_study",
-           "sensitivity_verdicts"]
+           "sensitivity_verdicts", "sensitivity_table", "plot_readings"]
 
 #: The update rules of the grid (name -> options of ``simulate``); a rule's position is its seed id.
 SENSITIVITY_RULES: dict[str, dict[str, Any]] = {
@@ -140,8 +145,9 @@ def sensitivity_study(readings: Sequence[tuple[str, int, str, dict[str, Any]]], 
     -------
     pandas.DataFrame
         One row per reading and level, in the order of ``readings`` then ``noise_levels``:
-        ``reading``, ``rule``, ``noise law``, ``unit (px)``, ``noise %``, ``successes``,
-        ``success %``, ``converged but wrong``.
+        ``reading``, ``rule``, ``noise law``, ``unit (px)``, ``noise %``, ``runs`` and the number
+        of runs ending in each of :data:`MODES` (``correct`` is
+        the paper's success, ``wrong`` a convergence to a wrong state).
     """
     laws = _laws(laws)
     levels = [as_real(n, f"noise_levels[{j}]", 0.0) for j, n in enumerate(noise_levels)]
@@ -171,15 +177,34 @@ def sensitivity_study(readings: Sequence[tuple[str, int, str, dict[str, Any]]], 
     rows = []
     for label, u, law, kw in readings:
         for n in levels:
-            ok, wrong = counts[key(label, u, n)]
+            c = counts[key(label, u, n)]
             rows.append({"reading": label, "rule": label.split(",")[0], "noise law": law, "unit (px)": u,
-                         "noise %": n, "successes": ok, "success %": 100 * ok / n_runs, "converged but wrong": wrong})
+                         "noise %": n, "runs": n_runs, **{m: c[m] for m in MODES}})
     return pd.DataFrame(rows)
 
 
-def sensitivity_verdicts(sens: pd.DataFrame, paper_k: Sequence[int], n_runs: int, p_min: float = 0.05
-                         ) -> pd.DataFrame:
-    """Each reading judged against the paper's Table 1.
+def _verdict_numbers(correct: Sequence[int], wrong: Sequence[int], cycles: Sequence[int], wander: Sequence[int],
+                     n_runs: int, paper_k: Sequence[int]) -> dict[str, float]:
+    """The criterion's numbers of one reading from its counts per noise level."""
+    p_hat = [k / n_runs for k in correct]
+    w_hat = [k / n_runs for k in wrong]
+    fail_rows = [j for j, k in enumerate(paper_k) if k < 10]
+    n_fail = sum(n_runs - correct[j] for j in fail_rows)
+    if n_fail:
+        q = sum(cycles[j] for j in fail_rows) / n_fail
+        w = sum(wander[j] for j in fail_rows) / n_fail
+        modes = mode_probability(q, w)
+    else:
+        modes = float("nan")
+    return {"P(table >= paper's)": p_table(p_hat, paper_k),
+            "at 95% high": p_table([rate_ci(int(k), n_runs)[1] for k in correct], paper_k),
+            "P(... and no wrong stop)": p_table(p_hat, paper_k, w_hat),
+            "P(paper's failure modes)": modes}
+
+
+def sensitivity_verdicts(sens: pd.DataFrame, paper_k: Sequence[int], p_min: float = 0.05
+                         ) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """Each reading judged against the paper's Table 1 and its account of the failures.
 
     Parameters
     ----------
@@ -187,39 +212,143 @@ def sensitivity_verdicts(sens: pd.DataFrame, paper_k: Sequence[int], n_runs: int
         The table of :func:`sensitivity_study`.
     paper_k : sequence of int
         The paper's successes out of ten, one per noise level of ``sens``.
-    n_runs : int
-        Simulations per cell of ``sens``.
     p_min : float
         The criterion's threshold on the probability of a table at least as good as the paper's.
 
     Returns
     -------
-    pandas.DataFrame
-        One row per reading (in the order of ``sens``): ``reading``, the success % per noise
-        level (``"<n>%"``, as text), ``wrong convergences`` (``"<count>/<runs>"``),
-        ``P(table >= paper's)`` (:func:`~projtrack.experiments.neuralnet.p_table` at the rates),
-        ``at 95% high`` (at the upper ends of their 95% intervals), ``reproduces Table 1`` (the
-        first at least ``p_min``), ``P(... and no wrong stop)``.
+    verdicts : pandas.DataFrame
+        One row per reading (in the order of ``sens``): ``reading``, ``P(table >= paper's)``
+        (:func:`~projtrack.experiments.neuralnet.p_table` at the estimated success rates),
+        ``at 95% high`` (at the upper ends of their 95% intervals), ``P(... and no wrong stop)``
+        (also no run converging to a wrong state), ``reproduces Table 1`` (the probability at the
+        upper ends at least ``p_min``: judged at the most favourable rates the runs allow), ``P(paper's failure modes)``
+        (:func:`~projtrack.experiments.neuralnet.mode_probability` of the failures pooled over the
+        levels where the paper has failures; NaN without failures) and ``failure modes seen`` (it
+        at least ``p_min``).
+    tolerance : dict of str to Tolerance
+        For the probability columns: the largest change any one run changing its outcome (in
+        any cell of any reading) makes to the column.
     """
     if not isinstance(sens, pd.DataFrame):
         raise TypeError(f"sens must be a pandas.DataFrame, got {type(sens).__name__}")
-    missing = {"reading", "noise %", "successes", "converged but wrong"} - set(sens.columns)
+    missing = {"reading", "noise %", "runs", *MODES} - set(sens.columns)
     if missing:
         raise ValueError(f"sens lacks the columns {sorted(missing)}")
-    n_runs = as_int(n_runs, "n_runs", minimum=1)
     p_min = as_probability(p_min, "p_min")
-    paper_k = list(paper_k)
-    verdicts = []
+    paper_k = [as_int(k, "paper_k", minimum=0, maximum=10) for k in paper_k]
+    verdicts, steps = [], {}
     for label, s in sens.groupby("reading", sort=False):
         if len(s) != len(paper_k):
             raise ValueError(f"reading {label!r} has {len(s)} noise levels, paper_k has {len(paper_k)}")
-        p_hat = (s["successes"] / n_runs).tolist()
-        w_hat = (s["converged but wrong"] / n_runs).tolist()
-        p_succ, p_both = p_table(p_hat, paper_k), p_table(p_hat, paper_k, w_hat)
-        p_high = p_table([rate_ci(k, n_runs)[1] for k in s["successes"]], paper_k)
-        verdicts.append({"reading": label,
-                         **{f"{n}%": f"{100 * k / n_runs:.0f}" for n, k in zip(s["noise %"], s["successes"])},
-                         "wrong convergences": f"{int(s['converged but wrong'].sum())}/{n_runs * len(s)}",
-                         "P(table >= paper's)": p_succ, "at 95% high": p_high,
-                         "reproduces Table 1": bool(p_succ >= p_min), "P(... and no wrong stop)": p_both})
-    return pd.DataFrame(verdicts)
+        n_runs = int(s["runs"].iloc[0])
+        counts = [s[m].astype(int).tolist() for m in ("correct", "wrong", "cycle with the truth", "wandering")]
+        num = _verdict_numbers(*counts, n_runs, paper_k)
+        # one run changing its outcome: a count goes up or down by one in one cell
+        for c in range(4):
+            for j in range(len(paper_k)):
+                for d in (-1, 1):
+                    moved = [list(x) for x in counts]
+                    moved[c][j] += d
+                    if not 0 <= moved[c][j] <= n_runs:
+                        continue
+                    other = _verdict_numbers(*moved, n_runs, paper_k)
+                    for key, v in num.items():
+                        if np.isfinite(v) and np.isfinite(other[key]):
+                            steps[key] = max(steps.get(key, 0.0), abs(other[key] - v))
+        verdicts.append({"reading": label, **{k: num[k] for k in list(num)[:3]},
+                         "reproduces Table 1": bool(num["at 95% high"] >= p_min),
+                         "P(paper's failure modes)": num["P(paper's failure modes)"],
+                         "failure modes seen": bool(num["P(paper's failure modes)"] >= p_min)})
+    tolerance = {key: statistical(atol=stable_up(max(step, 1e-12)),
+                                  why="one run changing its outcome in any cell moves this probability by at most "
+                                      "this much (largest change over the readings, rounded up to one digit)")
+                 for key, step in steps.items()}
+    for key in ("P(table >= paper's)", "at 95% high", "P(... and no wrong stop)", "P(paper's failure modes)"):
+        tolerance.setdefault(key, statistical(atol=1e-12, why="no count can move it"))
+    return pd.DataFrame(verdicts), tolerance
+
+
+def sensitivity_table(sens: pd.DataFrame) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """The shares of runs ending in each mode, per reading and noise level, and their tolerances.
+
+    Parameters
+    ----------
+    sens : pandas.DataFrame
+        The table of :func:`sensitivity_study`.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``reading``, ``noise %`` and ``<mode> %`` for each of
+        :data:`MODES` (``correct %`` is the success rate).
+    tolerance : dict of str to Tolerance
+        A share of ``runs`` runs: one run changing its outcome moves it by ``100 / runs`` points.
+    """
+    if not isinstance(sens, pd.DataFrame):
+        raise TypeError(f"sens must be a pandas.DataFrame, got {type(sens).__name__}")
+    missing = {"reading", "noise %", "runs", *MODES} - set(sens.columns)
+    if missing:
+        raise ValueError(f"sens lacks the columns {sorted(missing)}")
+    n = int(sens["runs"].min())
+    table = sens[["reading", "noise %"]].copy()
+    for m in MODES:
+        table[f"{m} %"] = 100 * sens[m] / sens["runs"]
+    return table, {"noise %": EXACT, "*": share(n, percent=True)}
+
+
+# ----------------------------------------------------------------------------- figures
+
+
+def plot_readings(shares, verdicts, paper: Sequence[float], units: Sequence[int], p_min: float = 0.05):
+    """The readings of the net as printed: (a) success against noise for each unit (ball noise),
+    (b) runs stopping at a wrong assignment, (c) the criterion's probability against the unit for
+    the three noise laws.
+
+    Parameters
+    ----------
+    shares : pandas.DataFrame
+        :func:`~projtrack.experiments.neuralnet.sensitivity_table` (``reading``, ``noise %``,
+        ``correct %``, ``wrong %``).
+    verdicts : pandas.DataFrame
+        :func:`~projtrack.experiments.neuralnet.sensitivity_verdicts`.
+    paper : sequence of float
+        The paper's success (%) per noise level.
+    units : sequence of int
+        The units of panels (a) and (b).
+    """
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(6.4, 6.4))
+    gs = fig.add_gridspec(2, 2, height_ratios=[1, 1], hspace=0.75, wspace=0.3)
+    ax_a, ax_b, ax_c = fig.add_subplot(gs[0, 0]), fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, :])
+    colours = plt.get_cmap("viridis")(np.linspace(0, 0.9, len(units)))
+    noise = None
+    for u, col in zip(units, colours):
+        s = shares[shares["reading"] == f"as printed, ball, unit {u}"]
+        noise = s["noise %"].to_numpy()
+        ax_a.plot(noise, s["correct %"], "o-", ms=3, color=col, label=f"{u} px")
+        ax_b.plot(noise, s["wrong %"], "o-", ms=3, color=col)
+    ax_a.plot(noise, paper, "*", color="C3", ms=11, label="paper")
+    ax_b.plot(noise, [0] * len(noise), "*", color="C3", ms=11)
+    for ax, title in [(ax_a, "(a) correct"), (ax_b, "(b) stopped wrong")]:
+        ax.set_xlabel("noise, %")
+        ax.set_ylim(-3, 103)
+        ax.set_xticks(noise)
+        ax.set_title(title)
+    ax_a.set_ylabel("runs, %")
+    fig.legend(*ax_a.get_legend_handles_labels(), frameon=False, ncol=5, loc="center", bbox_to_anchor=(0.5, 0.47),
+               handlelength=1.2, columnspacing=0.8)
+    floor = 1e-12
+    for law, mk in zip(["ball", "radial", "coordinate"], ["o", "s", "^"]):
+        r = verdicts[verdicts["reading"].str.startswith(f"as printed, {law},")]
+        us = [int(v.rsplit(" ", 1)[1]) for v in r["reading"]]
+        ax_c.plot(us, np.maximum(r["at 95% high"], floor), marker=mk, ms=4, label=f"{law} noise")
+    ax_c.axhline(p_min, color="0.4", lw=0.9, ls="--", label=f"criterion {p_min:g}")
+    ax_c.set_xscale("log"); ax_c.set_yscale("log")
+    ax_c.set_ylim(floor / 3, 3)
+    ax_c.set_xlabel("unit of D (pixels)")
+    ax_c.set_ylabel("P(table $\\geq$ paper's)")
+    ax_c.set_title(f"(c) at the upper 95% ends of the rates; below {floor:g} drawn at {floor:g}")
+    ax_c.legend(frameon=False, loc="upper left", ncol=2)
+    return fig

@@ -17,23 +17,32 @@ same results as running the trial functions one by one:
   (an assignment is a fixed point when that is below :func:`projtrack.neuralnet.fixed_point_limit`);
 * :func:`truth_index`, :func:`bound_direct_check`: the true assignment in the enumeration of
   :func:`projtrack.neuralnet.assignment_max_sums`, and the bound against a direct evaluation
-  of every neuron (:func:`direct_check_trial` on a data set of its own).
+  of every neuron (:func:`direct_check_trial` on a data set of its own);
+* :func:`bound_table`, :func:`fixed_point_grid`, :func:`cut_for_rates`: the bound read at one cut,
+  over update rules and units, and the cut the paper's rates would need;
+* :func:`bound_holds`: the bound against the simulated success of every reading;
+  :func:`plot_fixed_point_bound` draws the bound against the cut.
 """
 
 from __future__ import annotations
 
 import itertools
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
+import pandas as pd
 
 from projtrack import montecarlo
-from projtrack._validation import as_int, as_real, as_rng
+from projtrack._validation import as_int, as_probability, as_real, as_rng
 from projtrack.neuralnet import (assignment_max_sums, distance_tensor, fixed_point_limit, initial_states,
                                  is_correct_assignment, is_fixed_point, run_net, states_to_assignment)
 from projtrack.scenes.tracks3d import TrackScene, make_tracks
 
-from .table1 import draw_simulation, run_draws, score_simulation, simulate
+from projtrack.stable import tidy
+from projtrack.tolerance import EXACT, ROUNDING, Tolerance, share, statistical
+
+from .criterion import ci_step, rate_ci
+from .table1 import draw_simulation, draws_modes, mode_counts, run_draws, score_simulation, simulate
 
 __all__ = [
     "TABLE1_KEYS",
@@ -48,10 +57,16 @@ __all__ = [
     "fixed_point_bound",
     "bound_direct_check",
     "direct_check_trial",
+    "bound_table",
+    "fixed_point_grid",
+    "cut_for_rates",
+    "bound_holds",
+    "plot_fixed_point_bound",
 ]
 
-#: Per-run results of :func:`simulate` kept by :func:`table1_study`.
-TABLE1_KEYS = ("status", "iterations", "converged", "correct", "optimal_correct")
+#: Per-run results of :func:`simulate` kept by :func:`table1_study`, with the run's
+#: :data:`MODES` label (``mode``).
+TABLE1_KEYS = ("status", "iterations", "converged", "correct", "optimal_correct", "mode")
 
 _PERMS4 = np.array(list(itertools.permutations(range(4))))
 _PERM4_INDEX = {tuple(p): k for k, p in enumerate(_PERMS4)}
@@ -109,10 +124,13 @@ def table1_study(noise_levels: Sequence[float], n_runs: int, chunk: int, seed: i
     seed = as_int(seed, "seed", minimum=0)
     draws = {n: montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed + i), chunk, 1, n)
              for i, n in enumerate(levels)}
-    results = iter(run_draws([d for n in levels for d in draws[n]]))   # all nets of all levels at once
+    flat = [d for n in levels for d in draws[n]]
+    results = run_draws(flat)   # all nets of all levels at once
+    modes = iter(draws_modes(flat, results))
+    results = iter(results)
     out = {}
     for n in levels:
-        parts = [score_simulation(d, next(results)) for d in draws[n]]
+        parts = [{**score_simulation(d, next(results)), "mode": next(modes)} for d in draws[n]]
         out[n] = {k: np.concatenate([p[k] for p in parts]) for k in TABLE1_KEYS}
     return out
 
@@ -133,8 +151,8 @@ def sensitivity_trial(rng: np.random.Generator, noise_percent: float, unit: floa
 
 
 def sensitivity_cell(noise_percent: float, unit: float, noise_law: str, options: dict[str, Any],
-                     seed: object, n_runs: int, chunk: int) -> tuple[int, int]:
-    """Successes and wrong convergences of ``n_runs`` simulations under one reading.
+                     seed: object, n_runs: int, chunk: int) -> dict[str, int]:
+    """How ``n_runs`` simulations under one reading end.
 
     ``n_runs // chunk`` trials of :func:`sensitivity_trial` drawn from
     ``numpy.random.default_rng(seed)`` (``seed`` anything ``default_rng`` accepts, e.g. a
@@ -142,16 +160,17 @@ def sensitivity_cell(noise_percent: float, unit: float, noise_law: str, options:
 
     Returns
     -------
-    successes : int
-        Converged to the correct assignment.
-    wrong : int
-        Converged to a wrong assignment.
+    dict
+        The number of runs in each of :data:`MODES`
+        (:func:`~projtrack.experiments.neuralnet.run_modes`): ``correct`` (the paper's success),
+        ``wrong`` (converged to a wrong state), ``cycle with the truth``, ``other cycle``,
+        ``wandering``.
     """
     return sensitivity_cells([(noise_percent, unit, noise_law, options, seed)], n_runs, chunk)[0]
 
 
 def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], object]], n_runs: int, chunk: int
-                      ) -> list[tuple[int, int]]:
+                      ) -> list[dict[str, int]]:
     """:func:`sensitivity_cell` for many cells, the nets of all cells with the same options in one batch.
 
     Parameters
@@ -163,7 +182,7 @@ def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], o
 
     Returns
     -------
-    list of (successes, wrong)
+    list of dict
         In the order of ``cells``; equal to ``[sensitivity_cell(*c, n_runs, chunk) for c in cells]``.
     """
     n_trials = _as_trials(n_runs, chunk, "n_runs")
@@ -178,14 +197,13 @@ def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], o
         draws.append(montecarlo.run(draw_simulation, n_trials, np.random.default_rng(seed), chunk, 1, noise,
                                     noise_law=law, unit=float(unit)))
         groups.setdefault(tuple(sorted(options.items())), []).append(j)
-    out: list[tuple[int, int]] = [(0, 0)] * len(cells)
+    out: list[dict[str, int]] = [{} for _ in cells]
     for key, members in groups.items():
-        results = iter(run_draws([d for j in members for d in draws[j]], **dict(key)))
+        flat = [d for j in members for d in draws[j]]
+        results = run_draws(flat, **dict(key))
+        modes = iter(draws_modes(flat, results, **dict(key)))
         for j in members:
-            parts = [score_simulation(d, next(results), references=False) for d in draws[j]]
-            conv = np.concatenate([p["converged"] for p in parts])
-            ok = np.concatenate([p["correct"] for p in parts])
-            out[j] = (int(ok.sum()), int((conv & ~ok).sum()))
+            out[j] = mode_counts(np.concatenate([next(modes) for _ in draws[j]]))
     return out
 
 
@@ -300,3 +318,193 @@ def direct_check_trial(rng: np.random.Generator, noise_percent: float, unit: flo
     """:func:`bound_direct_check` on a data set of its own (four targets, five frames) drawn from ``rng``."""
     scene = make_tracks(rng, 4, 5, noise_percent=noise_percent)
     return bound_direct_check(scene, unit)
+
+
+def _bound_frames(bound: Mapping[float, Sequence[Mapping[str, float]]]) -> dict[float, tuple[np.ndarray, np.ndarray]]:
+    if not isinstance(bound, Mapping) or not bound or 0.0 not in bound:
+        raise ValueError("bound must map noise levels (including 0.0) to the rows of fixed_point_bound")
+    return {float(n): (np.array([r["truth"] for r in rows], dtype=float),
+                       np.array([r["wrong"] for r in rows], dtype=float)) for n, rows in bound.items()}
+
+
+def bound_table(bound: Mapping[float, Sequence[Mapping[str, float]]], cut: float
+                ) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """The fixed-point bound at one cut on ``max S`` (pixels), per noise level.
+
+    Parameters
+    ----------
+    bound : mapping noise level -> list of dict
+        :func:`fixed_point_bound` (``truth``, ``wrong``: the smallest ``max S`` in pixels).
+    cut : float
+        An assignment is a fixed point when its ``max S`` is below ``cut``.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``noise %``, ``truth is a fixed point %`` (the bound on the success rate), ``bound, 95% high %``,
+        ``median max S of the truth (px)`` (below ``1e-9``, rounding noise of straight tracks, shown as
+        0) and ``a wrong one is a fixed point %``.
+    tolerance : dict of str to Tolerance
+        Shares of the data sets (a data set near the cut may flip); the median is a direct
+        computation on the positions.
+    """
+    frames = _bound_frames(bound)
+    cut = as_real(cut, "cut", 0.0)
+    n_min = min(len(t) for t, _ in frames.values())
+    rows = []
+    for n, (t, w) in frames.items():
+        k = int((t < cut).sum())
+        rows.append({"noise %": n, "truth is a fixed point %": 100 * k / len(t),
+                     "bound, 95% high %": 100 * rate_ci(k, len(t))[1],
+                     "median max S of the truth (px)": float(tidy(np.median(t), 9, atol=1e-9)),
+                     "a wrong one is a fixed point %": 100 * float((w < cut).mean())})
+    runs = share(n_min, percent=True)
+    ci = statistical(atol=100 * ci_step(n_min),
+                     why=f"one of {n_min} data sets crossing the cut moves a 95% Clopper-Pearson bound by at most "
+                         "this much")
+    return pd.DataFrame(rows), {"noise %": EXACT, "truth is a fixed point %": runs,
+                                "a wrong one is a fixed point %": runs, "bound, 95% high %": ci,
+                                "median max S of the truth (px)": ROUNDING}
+
+
+def fixed_point_grid(bound: Mapping[float, Sequence[Mapping[str, float]]], rules: Mapping[str, Mapping[str, Any]],
+                     units: Sequence[float]) -> tuple[pd.DataFrame, dict[str, Tolerance]]:
+    """Which true and wrong assignments are fixed points, for every update rule and unit of D.
+
+    An assignment is a fixed point when its ``max S`` (pixels) is below ``fixed_point_limit(**rule) * unit``.
+
+    Parameters
+    ----------
+    bound : mapping noise level -> list of dict
+        :func:`fixed_point_bound`.
+    rules : mapping name -> options of :func:`projtrack.neuralnet.fixed_point_limit`
+    units : sequence of float
+        Units of D in pixels.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``rule``, ``unit (px)``, ``truth fixed at <n>% %`` for every noisy level and ``wrong fixed
+        at 0% %`` (share of noise-free data sets where some wrong assignment is a fixed point).
+    tolerance : dict of str to Tolerance
+        Shares of the data sets.
+    """
+    frames = _bound_frames(bound)
+    if not isinstance(rules, Mapping) or not rules:
+        raise TypeError("rules must be a non-empty mapping of name -> options")
+    units = [as_real(u, "unit", 0.0, low_open=True) for u in units]
+    rows = []
+    for name, kw in rules.items():
+        lim = fixed_point_limit(**dict(kw))
+        for u in units:
+            cut = lim * u
+            row = {"rule": name, "unit (px)": int(u) if float(u).is_integer() else u}
+            for n, (t, _) in frames.items():
+                if n > 0:
+                    row[f"truth fixed at {n:g}% %"] = 100 * float((t < cut).mean())
+            row["wrong fixed at 0% %"] = 100 * float((frames[0.0][1] < cut).mean())
+            rows.append(row)
+    n_min = min(len(t) for t, _ in frames.values())
+    return pd.DataFrame(rows), {"unit (px)": EXACT, "*": share(n_min, percent=True)}
+
+
+def cut_for_rates(bound: Mapping[float, Sequence[Mapping[str, float]]], rates: Mapping[float, float]) -> float:
+    """The smallest cut on ``max S`` (pixels) at which the bound allows the given success rates.
+
+    Parameters
+    ----------
+    bound : mapping noise level -> list of dict
+        :func:`fixed_point_bound`.
+    rates : mapping noise level -> rate in [0, 1]
+        E.g. the lower ends of the 95% intervals of the paper's rates.
+
+    Returns
+    -------
+    float
+        The largest, over the levels, ``inverted_cdf`` quantile of the truth's ``max S`` at the
+        level's rate, raised by one part in a million (so that the share below it reaches the rate).
+    """
+    frames = _bound_frames(bound)
+    if not isinstance(rates, Mapping) or not rates:
+        raise TypeError("rates must be a non-empty mapping of noise level -> rate")
+    out = 0.0
+    for n, p in rates.items():
+        p = as_probability(p, "rate")
+        if float(n) not in frames:
+            raise ValueError(f"no bound data at noise level {n}")
+        if p > 0:
+            out = max(out, float(np.quantile(frames[float(n)][0], p, method="inverted_cdf")))
+    return out * 1.000001
+
+
+def bound_holds(grid: pd.DataFrame, shares: pd.DataFrame, runs: int, n_sets: int) -> pd.DataFrame:
+    """The fixed-point bound against the simulations of every reading with ball noise.
+
+    A reading's success rate cannot exceed the share of data sets whose truth is a fixed point.
+    The two come from different data sets, so the check compares the lower 95% end of the
+    simulated rate with the upper 95% end of the bound.
+
+    Parameters
+    ----------
+    grid : pandas.DataFrame
+        :func:`fixed_point_grid` (``rule``, ``unit (px)``, ``truth fixed at <n>% %``).
+    shares : pandas.DataFrame
+        :func:`~projtrack.experiments.neuralnet.sensitivity_table` (``reading``, ``noise %``, ``correct %``).
+    runs : int
+        Simulations per cell of ``shares``.
+    n_sets : int
+        Data sets per level of the bound.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per noisy cell found in both: ``reading``, ``noise %``, ``bound %``, ``correct %``
+        and ``holds`` (the lower end of the rate at most the upper end of the bound).
+    """
+    runs = as_int(runs, "runs", minimum=1)
+    n_sets = as_int(n_sets, "n_sets", minimum=1)
+    rows = []
+    for _, g in grid.iterrows():
+        unit = g["unit (px)"]
+        label = f"{g['rule']}, ball, unit {int(unit) if float(unit).is_integer() else unit}"
+        sim = shares[shares["reading"] == label]
+        for _, s in sim.iterrows():
+            key = f"truth fixed at {s['noise %']:g}% %"
+            if key not in g or s["noise %"] == 0:
+                continue
+            b, c = float(g[key]), float(s["correct %"])
+            lo = rate_ci(int(round(c * runs / 100)), runs)[0]
+            hi = rate_ci(int(round(b * n_sets / 100)), n_sets)[1]
+            rows.append({"reading": label, "noise %": float(s["noise %"]), "bound %": b, "correct %": c,
+                         "holds": bool(lo <= hi + 1e-12)})
+    return pd.DataFrame(rows)
+
+
+# ----------------------------------------------------------------------------- figures
+
+
+def plot_fixed_point_bound(bound: Mapping[float, object], cut_book: float, cut_needed: float):
+    """Share of data sets whose truth (blue) or some wrong assignment (red, noise-free) is a fixed
+    point, against the cut on ``max S`` in pixels. ``bound`` maps noise level -> rows with keys
+    ``truth`` and ``wrong`` (the smallest ``max S``, pixels), as the rows of
+    :func:`~projtrack.experiments.neuralnet.fixed_point_bound`."""
+    import matplotlib.pyplot as plt
+
+    cuts = np.geomspace(1, 1e3, 200)
+    fig, ax = plt.subplots(figsize=(6.4, 3.3))
+    levels = [n for n in bound if n > 0]
+    for n, ls in zip(levels, ["-", "--", ":"]):
+        t = np.array([r["truth"] for r in bound[n]], dtype=float)
+        ax.plot(cuts, [100 * float((t < c).mean()) for c in cuts], "C0", ls=ls, label=f"truth fixed, {n:g}% noise")
+    w = np.array([r["wrong"] for r in bound[0.0]], dtype=float)
+    ax.plot(cuts, [100 * float((w < c).mean()) for c in cuts], "C3", label="a wrong one fixed, no noise")
+    ax.axvline(cut_book, color="0.3", lw=0.9)
+    ax.axvline(cut_needed, color="0.3", lw=0.9, ls="--")
+    ax.text(cut_book * 1.08, 4, "as read", rotation=90, va="bottom", fontsize=9)
+    ax.text(cut_needed * 1.08, 4, "paper's rates", rotation=90, va="bottom", fontsize=9)
+    ax.set_xscale("log")
+    ax.set_xlabel("cut on max $S$ (pixels) $= c\\,u / A_4$")
+    ax.set_ylabel("data sets, %")
+    ax.legend(frameon=False, loc="center right")
+    fig.tight_layout()
+    return fig

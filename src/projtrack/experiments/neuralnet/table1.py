@@ -12,6 +12,14 @@ batch of :func:`projtrack.neuralnet.run_net` (:func:`run_draws`) and scores ever
 The nets of a batch do not interact, so the result is that of
 ``montecarlo.run(simulate, ...)``; the unit tests and the chapter's notebook outputs check
 that it is identical, not merely close.
+
+How a run ends (:data:`MODES`, :func:`run_modes`): converged to the correct or to a wrong
+assignment, a 2-cycle between the correct state and one a single pairing away
+(:func:`one_pairing_away`, the failure the paper describes: "it oscillated between two states,
+one being the correct solution and the other differing in one target/measurement pairing"),
+another cycle, or wandering. :func:`draws_modes` labels the runs of several draws at once and
+:func:`mode_counts` counts them. :func:`plot_table1` and :func:`plot_fig5` draw the chapter's
+Table 1 and Fig. 5.
 """
 
 from __future__ import annotations
@@ -29,7 +37,9 @@ from projtrack.neuralnet import (PAPER_OFFSET, Coefficients, NetResult, assignme
                                  states_to_assignment)
 from projtrack.scenes.tracks3d import TrackScene, make_tracks
 
-__all__ = ["SimulationDraw", "simulate", "draw_simulation", "score_simulation", "run_draws", "simulate_trials"]
+__all__ = ["SimulationDraw", "simulate", "draw_simulation", "score_simulation", "run_draws", "simulate_trials",
+           "MODES", "FAILURE_MODES", "one_pairing_away", "run_modes", "draws_modes", "mode_counts", "plot_table1",
+           "plot_fig5"]
 
 
 @dataclass(frozen=True)
@@ -227,3 +237,186 @@ def simulate_trials(n_trials: int, rng: np.random.Generator, n_datasets: int, n_
     results = run_draws(draws, **net_options)
     return [score_simulation(d, r, references=references, exact_max_targets=exact_max_targets)
             for d, r in zip(draws, results)]
+
+
+# ----------------------------------------------------------------------------- how a run ends
+
+
+#: How a run ends: converged to the correct or to a wrong state; a 2-cycle between the correct
+#: state and one a single pairing away (the paper's oscillation); any other cycle; wandering
+#: (neither converged nor cycling within the sweep limit).
+MODES: tuple[str, ...] = ("correct", "wrong", "cycle with the truth", "other cycle", "wandering")
+
+
+#: The modes of a failed run.
+FAILURE_MODES: tuple[str, ...] = MODES[1:]
+
+
+def one_pairing_away(X: np.ndarray, truth: np.ndarray) -> bool:
+    """Whether ``X`` differs from ``truth`` in the pairings of one target in one frame only.
+
+    The two states must differ, and only within one row ``X[i, :, a]``: one pairing added,
+    removed or moved to another measurement. (A swap of two targets' measurements changes two
+    rows and is two pairings.)
+
+    Parameters
+    ----------
+    X, truth : array_like of 0/1, shape (N_T, N_M, N_P)
+    """
+    X, truth = np.asarray(X), np.asarray(truth)
+    if X.shape != truth.shape or X.ndim != 3:
+        raise ValueError(f"X and truth must be states of one shape (N_T, N_M, N_P), got {X.shape} and {truth.shape}")
+    rows = np.any(X != truth, axis=1)  # (N_T, N_P)
+    return int(rows.sum()) == 1
+
+
+def run_modes(D: np.ndarray, res: NetResult, labels: Sequence[np.ndarray], **net_options: Any) -> np.ndarray:
+    """The :data:`MODES` label of every run of a batch.
+
+    Parameters
+    ----------
+    D : ndarray, shape (B, N_P - 2, N_M, N_M, N_M)
+        The distance tensor of each run (as given to :func:`projtrack.neuralnet.run_net`).
+    res : NetResult
+        The batch's result.
+    labels : sequence of B arrays of int, shape (N_P, N_M)
+        ``labels[k][a, alpha]``: the target of measurement ``alpha`` of frame ``a`` in run ``k``'s
+        data set. The net's targets are interchangeable: a state is correct when every target
+        follows one true track (:func:`projtrack.neuralnet.is_correct_assignment`).
+    **net_options
+        The options the nets ran with (``coefficients``, ``offset``, ``mode``, ``self_coupling``,
+        ``exact_energy``): a run that ends in a 2-cycle is swept once more with them, which gives
+        the other state of the cycle.
+
+    Returns
+    -------
+    ndarray of str, shape (B,)
+    """
+    if not isinstance(res, NetResult):
+        raise TypeError(f"res must be a NetResult, got {type(res).__name__}")
+    D = np.asarray(D, dtype=float)
+    B = len(res.status)
+    if D.ndim != 5 or D.shape[0] != B:
+        raise ValueError(f"D must hold one tensor per run, shape ({B}, N_P - 2, N_M, N_M, N_M), got {D.shape}")
+    labels = list(labels)
+    if len(labels) != B:
+        raise ValueError(f"labels must hold one array per run ({B}), got {len(labels)}")
+    out = np.full(B, "wandering", dtype=object)
+    for k in range(B):
+        if res.status[k] == "converged":
+            out[k] = "correct" if _is_correct(res.states[k], labels[k]) else "wrong"
+        elif res.status[k] == "oscillating":
+            out[k] = "other cycle"
+    two = np.flatnonzero((res.status == "oscillating") & (res.period == 2))
+    if two.size:
+        partner = run_net(D[two], res.states[two].astype(float), max_iter=1, **net_options).states
+        for j, k in enumerate(two):
+            a, b = res.states[k], partner[j]
+            if (_is_correct(a, labels[k]) and one_pairing_away(b, a)
+                    or _is_correct(b, labels[k]) and one_pairing_away(a, b)):
+                out[k] = "cycle with the truth"
+    return out.astype(str)
+
+
+def _is_correct(X: np.ndarray, labels: np.ndarray) -> bool:
+    """Whether binary states are the correct assignment (targets are interchangeable)."""
+    return is_correct_assignment(states_to_assignment(X), np.asarray(labels))
+
+
+def draws_modes(draws: Sequence[Any], results: Sequence[NetResult], **net_options: Any) -> list[np.ndarray]:
+    """:func:`run_modes` for the nets of several simulation draws, as one batch.
+
+    Parameters
+    ----------
+    draws : sequence of SimulationDraw
+        As from :func:`projtrack.experiments.neuralnet.draw_simulation`.
+    results : sequence of NetResult
+        One per draw (:func:`projtrack.experiments.neuralnet.run_draws`).
+    **net_options
+        The options the nets ran with.
+
+    Returns
+    -------
+    list of ndarray of str
+        The modes of each draw's runs.
+    """
+    draws, results = list(draws), list(results)
+    if len(draws) != len(results) or not draws:
+        raise ValueError(f"draws and results must be non-empty and of one length, got {len(draws)}, {len(results)}")
+    D = np.concatenate([np.repeat(d.D, d.n_starts, axis=0) for d in draws])
+    labels = [d.scenes[k // d.n_starts].labels for d in draws for k in range(len(d.X0))]
+    res = NetResult(np.concatenate([r.states for r in results]), np.concatenate([r.status for r in results]),
+                    np.concatenate([r.iterations for r in results]), np.concatenate([r.period for r in results]))
+    modes = run_modes(D, res, labels, **net_options)
+    out, k = [], 0
+    for r in results:
+        out.append(modes[k:k + len(r.status)])
+        k += len(r.status)
+    return out
+
+
+def mode_counts(modes: np.ndarray) -> dict[str, int]:
+    """How many runs end in each of :data:`MODES`."""
+    modes = np.asarray(modes)
+    unknown = set(np.unique(modes)) - set(MODES)
+    if unknown:
+        raise ValueError(f"modes holds labels that are not in MODES: {sorted(unknown)}")
+    return {m: int((modes == m).sum()) for m in MODES}
+
+
+# ----------------------------------------------------------------------------- figures
+
+
+def plot_table1(noise: Sequence[float], paper: Sequence[float], ours: Sequence[float], ours_ci: np.ndarray,
+                bound: Sequence[float], best: Sequence[float], frames: Sequence[float]):
+    """Table 1 against noise: the paper, the net as read (with 95% intervals), the best reading at
+    each level, the fixed-point bound of the net as read and the frame-by-frame rule (all in %)."""
+    import matplotlib.pyplot as plt
+
+    noise = np.asarray(noise, dtype=float)
+    fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    ax.plot(noise, best, "-", color="0.6", lw=4, alpha=0.6, label="best of all readings, per level")
+    ax.plot(noise, bound, "k--", lw=1.1, label="bound: truth is a fixed point")
+    ci = np.asarray(ours_ci, dtype=float)
+    ours = np.asarray(ours, dtype=float)
+    ax.errorbar(noise, ours, yerr=[ours - ci[0], ci[1] - ours], fmt="o", color="C0", ms=6, capsize=3,
+                label="the net as read (400 runs per level)")
+    ax.plot(noise, frames, "s-", color="C2", ms=5, mfc="none", label="frame-by-frame rule")
+    ax.plot(noise, paper, "*", color="C3", ms=13, label="paper, Table 1 (10 runs)")
+    ax.set_xlabel("noise $n$ (% of the distance from the centre)")
+    ax.set_ylabel("correct runs, %")
+    ax.set_xticks(noise)
+    ax.set_ylim(-4, 104)
+    ax.legend(frameon=False, loc="center right", bbox_to_anchor=(1.0, 0.45))
+    fig.tight_layout()
+    return fig
+
+
+def plot_fig5(history: np.ndarray, order: np.ndarray, shown: Sequence[int]):
+    """Fig. 5: the states after the sweeps ``shown`` (rows). Each row is one panel holding the
+    frames' 4 x 4 matrices side by side (columns: targets; rows: measurements, sorted by ``order``
+    so that the correct answer is the same permutation in every frame)."""
+    import matplotlib.pyplot as plt
+
+    n_p = history.shape[-1]
+    n_t, n_m = history.shape[1], history.shape[2]
+    width = n_p * n_t + (n_p - 1)
+    fig, axes = plt.subplots(len(shown), 1, figsize=(4.6, 0.95 * len(shown) + 0.4))
+    for ax, it in zip(np.atleast_1d(axes), shown):
+        img = np.full((n_m, width), np.nan)
+        for a in range(n_p):
+            img[:, a * (n_t + 1): a * (n_t + 1) + n_t] = history[it][:, order[a], a].T
+        ax.imshow(np.ma.masked_invalid(img), cmap="Greys", vmin=0, vmax=1)
+        for a in range(n_p):
+            ax.add_patch(plt.Rectangle((a * (n_t + 1) - 0.5, -0.5), n_t, n_m, fill=False, lw=0.8, ec="0.4"))
+        ax.set_yticks([])
+        ax.set_ylabel(f"sweep {it}", fontsize=9, rotation=0, ha="right", va="center")
+        ax.set_xticks([a * (n_t + 1) + (n_t - 1) / 2 for a in range(n_p)])
+        ax.set_xticklabels([f"frame {a + 1}" for a in range(n_p)] if ax is np.atleast_1d(axes)[0] else [],
+                           fontsize=9)
+        ax.xaxis.set_ticks_position("top")
+        ax.tick_params(length=0)
+        for sp in ax.spines.values():
+            sp.set_visible(False)
+    fig.tight_layout()
+    return fig
