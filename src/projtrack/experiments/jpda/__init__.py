@@ -129,3 +129,69 @@ __all__ = [
     "tracking_summary",
     "tracking_sampling",
 ]
+
+# The trackers on real pedestrians (TUD-Campus, TUD-Stadtmitte, shipped by motmetrics), scored
+# with the CLEAR MOT and identity metrics, beside Stone Soup's JPDA with EHM.
+from .motscore import (
+    box_iou,
+    centred_overlap,
+    crossing_mot_table,
+    crossing_mot_trial,
+    mot_summary,
+    score_arrays,
+    score_points,
+)
+from .pedestrians import (
+    detector_statistics,
+    gt_model,
+    motion_statistics,
+    pedestrian_model,
+    pedestrian_study,
+    pedestrian_table,
+    pedestrian_tolerances,
+    pedestrian_trial,
+    run_difference,
+    run_trackers_on,
+    shipped_detections,
+    shipped_model,
+    shipped_trial,
+    synthetic_detections,
+)
+from .pedplots import plot_association_times, plot_tracks_over_time
+from .pedtiming import crowd_scan, scan_clusters, steady_state_innovation, stonesoup_ehm_beta, time_association
+from .pedtracking import PedestrianModel, TrackRun, predicted_measurements, track_sequence
+
+__all__ += [
+    "box_iou",
+    "centred_overlap",
+    "mot_summary",
+    "score_points",
+    "score_arrays",
+    "crossing_mot_trial",
+    "crossing_mot_table",
+    "motion_statistics",
+    "detector_statistics",
+    "pedestrian_model",
+    "gt_model",
+    "shipped_model",
+    "synthetic_detections",
+    "shipped_detections",
+    "run_difference",
+    "run_trackers_on",
+    "pedestrian_trial",
+    "shipped_trial",
+    "pedestrian_study",
+    "pedestrian_table",
+    "pedestrian_tolerances",
+    "PedestrianModel",
+    "TrackRun",
+    "predicted_measurements",
+    "track_sequence",
+    "steady_state_innovation",
+    "crowd_scan",
+    "stonesoup_ehm_beta",
+    "scan_clusters",
+    "time_association",
+    "plot_tracks_over_time",
+    "plot_association_times",
+]
