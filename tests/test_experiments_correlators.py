@@ -25,6 +25,14 @@ def test_inside_widened():
         EX.inside_widened(v, "1")
 
 
+def test_inside_share():
+    v = np.linspace(10.0, 20.0, 201)
+    assert EX.inside_share(v, 15.0, np.random.default_rng(0), n_boot=50) == 1.0
+    assert EX.inside_share(v, 100.0, np.random.default_rng(0), n_boot=50) == 0.0
+    hi = np.quantile(v, 0.975) * 1.1
+    assert 0.05 < EX.inside_share(v, hi, np.random.default_rng(0), n_boot=200) < 0.95  # on the edge
+
+
 def test_error_count_pmf_is_the_poisson_binomial():
     p = np.array([0.1, 0.5, 0.9])
     pmf = EX.error_count_pmf(p)

@@ -1,6 +1,7 @@
 """Scoring a reproduction against the numbers Casasent & Song print, and the glyph ensembles it needs.
 
 * :func:`inside_widened`: is a printed value inside the widened central 95 % of our draws;
+  :func:`inside_share`: how settled that answer is (a bootstrap over the draws);
 * :func:`error_count_pmf` and :func:`counts_consistent`: are the printed error counts of
   the 26-letter test (0 errors at sigma 0.44, 2 at 0.45) plausible under per-letter
   error rates we measured; :func:`counts_consistent_mc` adds the Monte Carlo uncertainty
@@ -44,7 +45,7 @@ from projtrack.scenes import letters
 from .autocorrelation import in_frame, peak_measures
 from .discrimination import correlation_peak, unit_image
 
-__all__ = ["inside_widened", "error_count_pmf", "counts_consistent", "counts_consistent_mc", "last_perfect",
+__all__ = ["inside_widened", "inside_share", "error_count_pmf", "counts_consistent", "counts_consistent_mc", "last_perfect",
            "summarize_draws",
            "ensemble_table", "member_alphabet", "FIG6_KINDS", "letter_numbers", "ensemble_numbers", "share_within",
            "close_to_printed", "compare_printed", "glyph_verdict"]
@@ -61,6 +62,20 @@ def inside_widened(values: np.ndarray, printed: float, *, widen: float = 0.1) ->
     widen = as_real(widen, "widen", 0.0)
     lo, hi = np.quantile(v, [0.025, 0.975])
     return bool((1 - widen) * lo <= printed <= (1 + widen) * hi)
+
+
+def inside_share(values: np.ndarray, printed: float, rng: np.random.Generator, *, widen: float = 0.1,
+                 n_boot: int = 400) -> float:
+    """Share of bootstrap resamples of ``values`` in which :func:`inside_widened` holds.
+
+    The Monte Carlo uncertainty of the criterion's answer: near 1 or 0 the draws settle it;
+    in between (say 5-95 %) the printed value sits on the edge of the widened interval.
+    """
+    v = as_array(values, "values", ndim=1, allow_empty=False)
+    rng = as_rng(rng)
+    n_boot = as_int(n_boot, "n_boot", minimum=1)
+    return float(np.mean([inside_widened(v[rng.integers(0, len(v), size=len(v))], printed, widen=widen)
+                          for _ in range(n_boot)]))
 
 
 def error_count_pmf(p: np.ndarray) -> np.ndarray:
