@@ -25,6 +25,14 @@ def test_inside_widened():
         EX.inside_widened(v, "1")
 
 
+def test_inside_share():
+    v = np.linspace(10.0, 20.0, 201)
+    assert EX.inside_share(v, 15.0, np.random.default_rng(0), n_boot=50) == 1.0
+    assert EX.inside_share(v, 100.0, np.random.default_rng(0), n_boot=50) == 0.0
+    hi = np.quantile(v, 0.975) * 1.1
+    assert 0.05 < EX.inside_share(v, hi, np.random.default_rng(0), n_boot=200) < 0.95  # on the edge
+
+
 def test_error_count_pmf_is_the_poisson_binomial():
     p = np.array([0.1, 0.5, 0.9])
     pmf = EX.error_count_pmf(p)
@@ -271,6 +279,14 @@ def test_noisy_study_and_peak_at_centre():
     assert (rect["rectified 2-D SNR"] >= rect["2-D SNR"]).all()  # zeros instead of negatives: less spread
     hits = EX.peak_at_centre_study(frame, ref, 0.0, 2, np.random.default_rng(0))
     assert hits.shape == (2, 3) and hits.all()
+    # a reference whose correlation has a deep negative lobe: the magnitude detector finds it
+    dip = np.zeros((16, 16))
+    dip[8, 8], dip[8, 11] = 1.0, -3.0
+    seen = [EX.peak_at_centre_study(dip, np.where(dip > 0, 1.0, 0.0), 0.0, 1, np.random.default_rng(0),
+                                    detect=d, tol=0)[0, 0] for d in ("bipolar", "magnitude")]
+    assert seen == [True, False]
+    with pytest.raises(ValueError, match="detect"):
+        EX.peak_at_centre_study(frame, ref, 0.1, 1, np.random.default_rng(0), detect="intensity")
     with pytest.raises(ValueError, match="same shape"):
         EX.noisy_study(frame, C_BIN, 0.1, 1, np.random.default_rng(0), extent=None)
     with pytest.raises(ValueError, match="plane"):
@@ -300,7 +316,7 @@ def test_snr_by_extent_and_calibration():
         EX.calibrated_extent(t, 100.0, "linear 127x127")
     with pytest.raises(ValueError, match="extents"):
         EX.snr_by_extent(frame, ref, 0.35, [], 2, np.random.default_rng(0))
-    assert EX.NOISE_EXTENT == 29
+    assert EX.NOISE_EXTENT == 30
 
 
 def test_zero_mean_psr_closed_form_matches_the_simulation():
@@ -431,6 +447,10 @@ def test_binary_vs_zero_mean_and_magnitudes():
     assert row["binary ratio"] == pytest.approx(1.0 / EX.correlation_peak(p, u, None))
     assert row["zero-mean ratio"] > row["binary ratio"]
     assert (t["cross most negative / peak"] < 0).all() and (t["auto most negative / peak"] < 0).all()
+    # magnitudes can only raise a cross peak: |c| >= c
+    neg = t["cross most negative / peak"].abs() > 1.0 / t["zero-mean ratio"]
+    assert np.allclose(t.loc[~neg, "magnitude ratio"], t.loc[~neg, "zero-mean ratio"], rtol=0, atol=1e-9) or neg.any()
+    assert (t["magnitude ratio"] <= t["zero-mean ratio"] + 1e-12).all() or (t["auto most negative / peak"] < -1).any()
     bip, mag = EX.magnitude_mismatch(EX.unit_image(C_BIN), EX.unit_image(imgs[1]), 0)
     assert bip < 1e-12 < 0.1 < mag  # bipolar outputs obey eq. (3), their magnitudes do not
     with pytest.raises(ValueError, match="two images"):
@@ -526,17 +546,70 @@ def test_glyph_numbers_and_verdicts():
     n = EX.letter_numbers(C_BIN, p)
     m = EX.peak_measures(C_BIN, C_BIN)
     assert n["pixels"] == 43 and n["vertical peak"] == pytest.approx(m["vertical"][0])
-    assert n["cross/auto 2-D"] < n["cross/auto horizontal"] < 1.0
-    table = EX.ensemble_table(fonts=("STIX",), cap_heights=(11.0,), offsets=(0.0, 0.5))
-    assert len(table) >= 1 and set(table["font"]) == {"STIX"}
+    assert n["cross/auto 2-D"] < n["cross/auto horizontal"] < 1.1
+    table = EX.ensemble_table(fonts=("STIX",), cap_heights=(8.5, 11.0), offsets=(0.0, 0.5))
+    assert len(table) >= 2 and set(table["font"]) == {"STIX"} and {"box", "fits", "fits_counts"} <= set(table)
     numbers = EX.ensemble_numbers(table)
-    assert (numbers["pixels"] == 43).all()
+    assert (numbers["pixels"] == 43).all() and (numbers["box"] <= 10).all()
+    assert len(EX.ensemble_numbers(table, which="fits_counts")) >= len(numbers)
+    assert len(EX.ensemble_numbers(table, which=None)) == len(table)
+    with pytest.raises(ValueError, match="column"):
+        EX.ensemble_numbers(table, which="nope")
     assert EX.share_within(np.array([1.0, 1.05, 1.2]), 1.0, 0.1) == pytest.approx(2 / 3)
     cmp = EX.compare_printed(numbers, n, {"2-D PSR": 3.8})
-    assert cmp["ours"].iloc[0] == pytest.approx(m["2-D"][1]) and cmp["within 10 %"].iloc[0] == 0.0
+    assert cmp["ours"].iloc[0] == pytest.approx(m["2-D"][1]) and cmp["match"].iloc[0] == 0.0
     assert EX.glyph_verdict(n, numbers, {"vertical peak": n["vertical peak"]}) == "within-tolerance"
     assert EX.glyph_verdict(n, numbers, {"2-D PSR": 3.8}) == "differs"
     fake = pd.DataFrame({"x": [1.0, 2.0]})
     assert EX.glyph_verdict({"x": 5.0}, fake, {"x": 2.05}) == "qualitative"  # one glyph set reproduces it
     with pytest.raises(ValueError, match="columns"):
         EX.member_alphabet({"font": "STIX"})
+
+
+def test_the_no_discrimination_baseline_cannot_pass():
+    import pandas as pd
+
+    # a cross/auto ratio of 1 is within 10 % of a printed 0.95, but not nearer it than to 1
+    assert EX.close_to_printed([1.0], 0.95).all() and not EX.close_to_printed([1.0], 0.95, baseline=1.0).any()
+    assert list(EX.close_to_printed([0.90, 0.97, 0.98, 0.85], 0.95, baseline=1.0)) == [True, True, False, False]
+    fake = pd.DataFrame({"r": [1.0, 0.93]})
+    assert EX.glyph_verdict({"r": 1.0}, fake, {"r": 0.95}) == "within-tolerance"
+    assert EX.glyph_verdict({"r": 1.0}, fake, {"r": 0.95}, baseline={"r": 1.0}) == "qualitative"
+    assert EX.glyph_verdict({"r": 1.0}, fake[:1], {"r": 0.95}, baseline={"r": 1.0}) == "differs"
+    cmp = EX.compare_printed(fake, {"r": 1.0}, {"r": 0.95}, baseline={"r": 1.0})
+    assert cmp["match"].iloc[0] == 0.5
+
+
+def test_counts_consistent_mc():
+    rng = np.random.default_rng(0)
+    perfect = np.ones((50, 26), dtype=bool)
+    r = EX.counts_consistent_mc(perfect, perfect, rng, n_boot=50)
+    assert r["P0"] == 1.0 and not r["consistent"] and not r["edge"]  # never 2 errors at the second level
+    # one error somewhere in 1 draw of 40 at the first level, about 2 per test at the second
+    first = np.ones((40, 26), dtype=bool)
+    first[0, 3] = False
+    second = rng.random((40, 26)) > 2 / 26
+    r = EX.counts_consistent_mc(first, second, np.random.default_rng(1), n_boot=200)
+    assert r["consistent"] and r["P0"] == pytest.approx(1 - 1 / 40)
+    assert r["P0 low"] <= r["P0"] <= r["P0 high"] and 0.0 <= r["share consistent"] <= 1.0
+    same = EX.counts_consistent_mc(first, second, np.random.default_rng(1), n_boot=200)
+    assert same == r
+    with pytest.raises(ValueError, match="bool"):
+        EX.counts_consistent_mc(first.astype(int), second, rng)
+    with pytest.raises(ValueError, match="shape"):
+        EX.counts_consistent_mc(first[:3], second, rng)
+
+
+def test_detection_study(small_bank):
+    imgs, labels, bank = small_bank
+    ok = EX.detection_study(bank, imgs, labels, [0.0, 2.0], 3, np.random.default_rng(4), extent=30)
+    assert ok.shape == (3, 2, 2, 3) and ok.dtype == bool
+    assert ok[:, 0].all()  # noise-free: both detections right
+    assert EX.DETECTIONS == ("rectified", "magnitude")
+    # the rectified score is the bank's own (positive peaks are kept)
+    from projtrack.experiments.correlators.recognition import _detected_scores
+    X = letters.noisy(imgs, 0.3, np.random.default_rng(5))[0]
+    assert np.allclose(_detected_scores(bank, X)[0], bank.decision_function(X))
+    with pytest.raises(TypeError, match="ProjectionCorrelationClassifier"):
+        EX.detection_study(C.Correlation2DClassifier().fit(imgs, labels), imgs, labels, [0.1], 1,
+                           np.random.default_rng(0))

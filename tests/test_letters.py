@@ -23,8 +23,9 @@ def test_letters_are_central_and_within_paper_limits():
     assert np.sum((counts >= 40) & (counts <= 75)) >= 13  # "most letters ... 40-75"
     rows = np.nonzero(a.any(axis=2))
     cols = np.nonzero(a.any(axis=1))
-    assert rows[1].min() >= 8 and rows[1].max() <= 23  # cap height 11, centred; M and W are wider
-    assert cols[1].min() >= 8 and cols[1].max() <= 23
+    assert rows[1].min() >= 10 and rows[1].max() <= 21  # cap height 8.5, centred; M and W are wider
+    assert cols[1].min() >= 9 and cols[1].max() <= 22
+    assert letters.box_side(a) <= 10 and letters.fits_description(a)  # "most ... the central 10 x 10 pixels"
 
 
 def test_description_rule_is_the_thicker_one():
@@ -102,6 +103,15 @@ def test_noisy_bad_inputs():
 def test_default_rule_is_calibrated_on_the_43_pixel_c():
     assert letters.calibrate_rule() == (letters.CAP_HEIGHT, letters.MIN_COVERAGE)
     assert letters.render_letter("C").sum() == 43
+    # the calibrated alphabet is the centred STIX member of the glyph ensemble, bit for bit
+    member = [e for e in letters.glyph_ensemble(fonts=("STIX",), cap_heights=(letters.CAP_HEIGHT,), offsets=(0.0,))]
+    assert len(member) == 1 and member[0]["min_coverage"] == letters.MIN_COVERAGE and member[0]["fits"]
+    # the old grid's rule (cap height 11, a quarter) gives 43 pixels too, but letters 12 pixels tall
+    grid = letters.rule_grid()
+    big = [g for g in grid if g["C"] == 43]
+    assert big and all(g["box"] > 10 for g in big)
+    with pytest.raises(ValueError, match="no candidate"):
+        letters.calibrate_rule(grid)
     # the description-only rule differs: a thicker C
     cap, cov = letters.choose_rule()
     assert letters.render_letter("C", cap_height=cap, min_coverage=cov).sum() != 43
@@ -114,6 +124,9 @@ def test_calibrate_rule_logic_and_errors():
             {"cap_height": 12.0, "min_coverage": 0.5, "n_in_40_75": 25, "max": 130, "C": 43}]
     assert letters.calibrate_rule(grid) == (12.0, 0.25)
     assert letters.calibrate_rule(grid, pixels=50) == (10.0, 0.5)
+    # with the size of Sec. III.A: most letters in a 10 x 10 box
+    boxed = [g | {"box": b} for g, b in zip(grid, (10, 10, 12, 10))]
+    assert letters.calibrate_rule(boxed) == (11.0, 0.25)
     with pytest.raises(ValueError, match="no candidate"):
         letters.calibrate_rule(grid, pixels=44)
     with pytest.raises(ValueError, match="letter"):
@@ -177,15 +190,39 @@ def test_coverage_for_count():
 def test_glyph_ensemble_gives_the_printed_c_and_matches_direct_rendering():
     ens = letters.glyph_ensemble(fonts=("STIX", "Computer Modern"), cap_heights=(10.5, 11.0),
                                  offsets=(0.0, 0.25, 0.5))
-    assert ens and all(set(e) == {"font", "cap_height", "dx", "dy", "min_coverage", "n_in_40_75", "max", "fits"}
-                       for e in ens)
+    assert ens and all(set(e) == {"font", "cap_height", "dx", "dy", "min_coverage", "n_in_40_75", "max", "box",
+                                  "fits_counts", "fits"} for e in ens)
     for e in ens[:: max(1, len(ens) // 5)]:
         a = letters.alphabet(cap_height=e["cap_height"], min_coverage=e["min_coverage"], font=e["font"],
                              offset=(e["dx"], e["dy"]))
         counts = letters.pixel_counts(a)
         assert counts[letters.LETTERS.index("C")] == 43
         assert counts.max() == e["max"] and np.sum((counts >= 40) & (counts <= 75)) == e["n_in_40_75"]
+        assert e["box"] == letters.box_side(a) and e["fits"] == letters.fits_description(a)
+        assert e["fits_counts"] == letters.fits_description(a, box=None)
     with pytest.raises(ValueError, match="multiples"):
         letters.glyph_ensemble(offsets=(0.1,))
     with pytest.raises(ValueError, match="empty"):
         letters.glyph_ensemble(fonts=())
+
+
+def test_box_side_and_description():
+    a = np.zeros((3, 32, 32))
+    a[0, 5:15, 5:12] = 1  # 10 x 7
+    a[1, 0:12, 0:3] = 1  # 12 x 3
+    a[2, 20:29, 20:29] = 1  # 9 x 9
+    assert letters.box_side(a, most=1) == 9 and letters.box_side(a, most=2) == 10 and letters.box_side(a, most=3) == 12
+    with pytest.raises(ValueError, match="most"):
+        letters.box_side(a, most=4)
+    with pytest.raises(ValueError, match="nonzero"):
+        letters.box_side(np.zeros((2, 4, 4)), most=1)
+    big = letters.alphabet(cap_height=11.0, min_coverage=0.25)
+    assert letters.fits_description(big, box=None) and not letters.fits_description(big)
+    assert letters.fits_description(big, box=12)
+
+
+def test_calibration_grid():
+    grid = letters.calibration_grid((8.5, 9.0, 11.0))
+    assert [g["cap_height"] for g in grid] == [8.5, 11.0]  # no threshold gives a 43-pixel C at 9.0
+    assert all(g["C"] == 43 and g["font"] == "STIX" and g["dx"] == g["dy"] == 0.0 for g in grid)
+    assert letters.calibrate_rule(grid) == (8.5, 0.03125)

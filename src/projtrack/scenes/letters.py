@@ -9,23 +9,24 @@ synthesizes stand-ins from the Times-like STIX font that matplotlib ships
 (``STIXGeneral.ttf``; nothing is downloaded), with one size rule for all letters:
 
 * the glyph outline is scaled so that the font's **cap height** (the height of ``H``)
-  is ``cap_height`` pixels (default 11, see below);
+  is ``cap_height`` pixels (default 8.5, see below);
 * each glyph's bounding box is centred on the centre of the frame;
 * a pixel is on when at least a fraction ``min_coverage`` of its area lies inside the
   glyph, measured by ``supersample x supersample`` point sampling of the pixel.
 
 The pair (``cap_height``, ``min_coverage``) is fixed once for all letters by
-:func:`calibrate_rule` on a number the paper gives: the letter C "has 43 nonzero
-pixels" (Sec. III.B). Over the small grid ``cap_height`` in {10, 11, 12} (the "central
-10 x 10" to 12 x 12 pixels) and ``min_coverage`` in {1/2, 1/4, any sub-sample}, the rules
-that fit the text's description (every letter under 110 pixels) and give C exactly 43
-pixels are kept, ties going to the most letters in the 40-75 range. The result, cap
-height 11 with a pixel on when a quarter of its area is inside the glyph
-(``min_coverage = 1/4``), is the default; it also puts 22 of the 26 letters in 40-75.
-:func:`choose_rule`, the rule picked from the description alone (most letters in
-40-75, ties to the smallest cap height), gives a thicker 55-pixel C and is kept for
-comparison. No letter is adjusted individually; glyphs wider than tall (``M``, ``W``)
-extend a little beyond the cap height, as in any Times font.
+:func:`calibrate_rule` on what the paper says about its bitmaps: the letter C "has 43
+nonzero pixels" (Sec. III.B), and the description of Sec. III.A (:func:`fits_description`:
+every letter under 110 pixels, most in a 10 x 10 box). The candidates are the centred STIX
+glyphs of the cap heights :data:`ENSEMBLE_CAP_HEIGHTS`, each with the coverage threshold
+that gives C exactly 43 pixels; of those that fit the description, ties go to the most
+letters with 40-75 pixels, then the smallest cap height, then the largest threshold. The
+result, cap height 8.5 with a pixel on when 2 of its 64 sub-samples are inside the glyph
+(``min_coverage = 1/32``), is the default: 23 of the 26 letters fit a 10 x 10 box and 21
+have 40-75 pixels. :func:`choose_rule`, a rule picked from the pixel counts alone on a
+coarser grid, gives a thicker 55-pixel C and is kept for comparison. No letter is
+adjusted individually; glyphs wider than tall (``M``, ``W``) extend a little beyond the
+box, as in any Times font.
 """
 
 from __future__ import annotations
@@ -44,16 +45,19 @@ from projtrack._validation import as_array, as_choice, as_int, as_probability, a
 
 __all__ = ["LETTERS", "CAP_HEIGHT", "MIN_COVERAGE", "FONTS", "font_path", "coverage_map", "render_letter",
            "alphabet", "noisy", "pixel_counts", "rule_grid", "choose_rule", "calibrate_rule", "coverage_for_count",
-           "ENSEMBLE_CAP_HEIGHTS", "ENSEMBLE_OFFSETS", "glyph_ensemble"]
+           "ENSEMBLE_CAP_HEIGHTS", "ENSEMBLE_OFFSETS", "glyph_ensemble", "MOST", "box_side", "fits_description",
+           "calibration_grid"]
 
 #: The 26 upper-case letters in alphabetical order.
 LETTERS: str = string.ascii_uppercase
 
-#: Default cap height in pixels (calibrated by :func:`calibrate_rule` on the 43-pixel C).
-CAP_HEIGHT: float = 11.0
+#: Default cap height in pixels (calibrated by :func:`calibrate_rule` on the 43-pixel C and
+#: the description of Sec. III.A).
+CAP_HEIGHT: float = 8.5
 
-#: Default minimum covered fraction of a pixel's area for it to be on (calibrated likewise).
-MIN_COVERAGE: float = 0.25
+#: Default minimum covered fraction of a pixel's area for it to be on (calibrated likewise:
+#: 2 of the 64 sub-samples of a pixel).
+MIN_COVERAGE: float = 0.03125
 
 
 #: Serif fonts that ship with matplotlib (files in its ``fonts/ttf`` folder), by name: the
@@ -198,6 +202,47 @@ def alphabet(size: int = 32, cap_height: float = CAP_HEIGHT, min_coverage: float
                      for c in LETTERS])
 
 
+#: "Most letters" of Sec. III.A: at least this many of the 26.
+MOST: int = 14
+
+
+def box_side(images: np.ndarray, most: int = MOST) -> int:
+    """Side of the smallest square box that holds the bounding box of at least ``most`` images.
+
+    Sec. III.A: "Most letters occupied the central 10 x 10 pixels": the description holds
+    when ``box_side(alphabet) <= 10``. Each image's bounding box is the rows and columns
+    holding a nonzero pixel; its side is the larger of its height and width.
+    """
+    images = as_array(np.asarray(images, dtype=float), "images", ndim=3, allow_empty=False)
+    most = as_int(most, "most", minimum=1)
+    if most > len(images):
+        raise ValueError(f"most must be at most the number of images {len(images)}, got {most}")
+    on = images != 0
+    if not np.all(on.any(axis=(1, 2))):
+        raise ValueError("every image needs a nonzero pixel to have a bounding box")
+    sides = []
+    for m in on:
+        r, c = np.nonzero(m.any(axis=1))[0], np.nonzero(m.any(axis=0))[0]
+        sides.append(max(r[-1] - r[0] + 1, c[-1] - c[0] + 1))
+    return int(np.sort(sides)[most - 1])
+
+
+def fits_description(images: np.ndarray, *, box: int | None = 10) -> bool:
+    """Whether 26 binary letters fit the description of Sec. III.A.
+
+    "Most letters occupied the central 10 x 10 pixels and had 40-75 nonzero pixels and all
+    letters had less than 110 nonzero pixels": every letter under 110 pixels, most (at
+    least :data:`MOST` = 14) with 40-75, and most inside a ``box x box`` square
+    (:func:`box_side`; ``box=None`` leaves the size part out, the pixel counts only).
+    """
+    images = as_array(np.asarray(images, dtype=float), "images", ndim=3, allow_empty=False)
+    counts = pixel_counts(images)
+    ok = bool(counts.max() < 110 and np.sum((counts >= 40) & (counts <= 75)) >= MOST)
+    if box is not None:
+        ok = ok and box_side(images) <= as_int(box, "box", minimum=1)
+    return ok
+
+
 def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
               min_coverages: tuple[float, ...] = (0.5, 0.25, 1.0 / 64.0)) -> list[dict[str, float]]:
     """Pixel-count statistics of the 26 letters for each candidate size rule.
@@ -206,22 +251,23 @@ def rule_grid(cap_heights: tuple[float, ...] = (10.0, 11.0, 12.0),
     -------
     list of dict
         One dict per (cap height, coverage) with keys ``cap_height``, ``min_coverage``,
-        ``n_in_40_75`` (letters with 40-75 on-pixels), ``min``, ``median``, ``max`` and
-        ``C`` (on-pixels of the letter C, the count Sec. III.B gives).
+        ``n_in_40_75`` (letters with 40-75 on-pixels), ``min``, ``median``, ``max``, ``box``
+        (:func:`box_side`) and ``C`` (on-pixels of the letter C, the count Sec. III.B gives).
     """
     out = []
     for cap in cap_heights:
         for cov in min_coverages:
-            counts = pixel_counts(alphabet(cap_height=cap, min_coverage=cov))
+            a = alphabet(cap_height=cap, min_coverage=cov)
+            counts = pixel_counts(a)
             out.append({"cap_height": float(cap), "min_coverage": float(cov),
                         "n_in_40_75": int(np.sum((counts >= 40) & (counts <= 75))),
                         "min": int(counts.min()), "median": float(np.median(counts)),
-                        "max": int(counts.max()), "C": int(counts[LETTERS.index("C")])})
+                        "max": int(counts.max()), "box": box_side(a), "C": int(counts[LETTERS.index("C")])})
     return out
 
 
 def choose_rule(grid: list[dict[str, float]] | None = None) -> tuple[float, float]:
-    """The size rule that best matches the description of Sec. III.A.
+    """The size rule that best matches the pixel counts of Sec. III.A (its size part left out).
 
     Most letters with 40-75 on-pixels, all letters under 110, ties to the smallest cap
     height then the largest coverage threshold. Returns ``(cap_height, min_coverage)``.
@@ -234,19 +280,36 @@ def choose_rule(grid: list[dict[str, float]] | None = None) -> tuple[float, floa
     return best["cap_height"], best["min_coverage"]
 
 
+def calibration_grid(cap_heights: tuple[float, ...] | None = None, *, letter: str = "C", pixels: int = 43,
+                     font: str = "STIX") -> list[dict[str, object]]:
+    """The candidate size rules of :func:`calibrate_rule`: centred glyphs of one font, each cap
+    height with the coverage threshold that gives ``letter`` exactly ``pixels`` pixels.
+
+    The rows of :func:`glyph_ensemble` at offset (0, 0) for ``font`` and ``cap_heights``
+    (default :data:`ENSEMBLE_CAP_HEIGHTS`), each with the key ``letter`` set to ``pixels``;
+    a cap height at which no threshold gives the count is left out.
+    """
+    caps = ENSEMBLE_CAP_HEIGHTS if cap_heights is None else cap_heights
+    rows = glyph_ensemble((font,), tuple(caps), (0.0,), letter=letter, pixels=pixels)
+    return [r | {letter: pixels} for r in rows]
+
+
 def calibrate_rule(grid: list[dict[str, float]] | None = None, *, letter: str = "C",
                    pixels: int = 43) -> tuple[float, float]:
-    """The size rule calibrated on a pixel count the paper gives (Sec. III.B: C has 43).
+    """The size rule calibrated on what the paper says about its bitmaps (Secs. III.A-B).
 
-    Among the rules of ``grid`` that keep every letter under 110 pixels (Sec. III.A), keep
-    those whose ``letter`` has exactly ``pixels`` on-pixels; ties go to the most letters
-    in the 40-75 range, then the smallest cap height, then the largest coverage threshold.
+    Among the rules of ``grid`` that keep every letter under 110 pixels and, where a row has
+    the key ``box`` (:func:`box_side`), put most letters in a 10 x 10 box (Sec. III.A),
+    keep those whose ``letter`` has exactly ``pixels`` on-pixels (Sec. III.B: C has 43);
+    ties go to the most letters in the 40-75 range, then the smallest cap height, then the
+    largest coverage threshold.
 
     Parameters
     ----------
     grid : list of dict, optional
-        Output of :func:`rule_grid` (computed if omitted). For a ``letter`` other than
-        ``"C"`` each dict needs the key ``letter``; otherwise the key ``"C"`` is used.
+        Candidate rules, e.g. :func:`calibration_grid` (the default) or :func:`rule_grid`.
+        Each dict needs ``cap_height``, ``min_coverage``, ``n_in_40_75``, ``max`` and the
+        on-pixel count of ``letter`` under the key ``letter``.
     letter : str, default "C"
         The letter whose count pins the rule.
     pixels : int, default 43
@@ -261,19 +324,19 @@ def calibrate_rule(grid: list[dict[str, float]] | None = None, *, letter: str = 
     ------
     ValueError
         If ``letter`` is not an upper-case letter, ``pixels`` is not a positive int, a
-        dict lacks the letter's count, or no rule of the grid gives the count.
+        dict lacks the letter's count, or no rule of the grid fits.
     """
     if not isinstance(letter, str) or len(letter) != 1 or letter not in LETTERS:
         raise ValueError(f"letter must be one upper-case letter A-Z, got {letter!r}")
     pixels = as_int(pixels, "pixels", minimum=1)
-    grid = rule_grid() if grid is None else grid
+    grid = calibration_grid(letter=letter, pixels=pixels) if grid is None else grid
     if any(letter not in g for g in grid):
         raise ValueError(f"every rule of the grid needs the on-pixel count of {letter!r} (key {letter!r})")
-    ok = [g for g in grid if g["max"] < 110 and int(g[letter]) == pixels]
+    ok = [g for g in grid if g["max"] < 110 and int(g[letter]) == pixels and g.get("box", 0) <= 10]
     if not ok:
-        raise ValueError(f"no candidate rule gives {letter!r} exactly {pixels} pixels with every letter under 110")
+        raise ValueError(f"no candidate rule gives {letter!r} exactly {pixels} pixels and fits the description")
     best = max(ok, key=lambda g: (g["n_in_40_75"], -g["cap_height"], g["min_coverage"]))
-    return best["cap_height"], best["min_coverage"]
+    return float(best["cap_height"]), float(best["min_coverage"])
 
 
 def coverage_for_count(cover: np.ndarray, pixels: int) -> float:
@@ -291,8 +354,9 @@ def coverage_for_count(cover: np.ndarray, pixels: int) -> float:
     return float(v[pixels - 1])
 
 
-#: Cap heights (pixels) of the default glyph ensemble: around the "central 10 x 10 pixels".
-ENSEMBLE_CAP_HEIGHTS: tuple[float, ...] = (9.5, 10.0, 10.5, 11.0, 11.5, 12.0)
+#: Cap heights (pixels) of the default glyph ensemble: from the smallest at which a C of any
+#: font can have 43 pixels to letters 12-13 pixels tall, around the "central 10 x 10 pixels".
+ENSEMBLE_CAP_HEIGHTS: tuple[float, ...] = (8.0, 8.5, 9.0, 9.5, 10.0, 10.5, 11.0, 11.5, 12.0)
 
 #: Sub-pixel shifts (pixels, along each axis) of the default glyph ensemble.
 ENSEMBLE_OFFSETS: tuple[float, ...] = (0.0, 0.25, 0.5, 0.75)
@@ -314,8 +378,10 @@ def glyph_ensemble(fonts: tuple[str, ...] = tuple(FONTS), cap_heights: tuple[flo
     list of dict
         One dict per combination with a threshold: ``font``, ``cap_height``, ``dx``,
         ``dy``, ``min_coverage``, ``n_in_40_75`` (letters with 40-75 pixels), ``max``
-        (the largest count) and ``fits`` (every letter under 110 pixels and most, at
-        least 14 of 26, in 40-75: the description of Sec. III.A).
+        (the largest count), ``box`` (:func:`box_side`: most letters fit a ``box x box``
+        square), ``fits_counts`` (the pixel counts of Sec. III.A: every letter under 110
+        pixels and most, at least 14 of 26, in 40-75) and ``fits`` (also most letters in
+        a 10 x 10 box: the whole description, :func:`fits_description`).
     """
     if not fonts or not cap_heights or not offsets:
         raise ValueError("fonts, cap_heights and offsets must not be empty")
@@ -337,11 +403,14 @@ def glyph_ensemble(fonts: tuple[str, ...] = tuple(FONTS), cap_heights: tuple[flo
                     t = coverage_for_count(covers[letter], pixels)
                     if not np.isfinite(t):
                         continue
-                    counts = np.array([int(np.sum(covers[ch] >= t - 1e-12)) for ch in LETTERS])
+                    images = np.stack([(covers[ch] >= t - 1e-12).astype(float) for ch in LETTERS])
+                    counts = pixel_counts(images)
                     n_in = int(np.sum((counts >= 40) & (counts <= 75)))
+                    box = box_side(images)
+                    fits_counts = bool(counts.max() < 110 and n_in >= MOST)
                     out.append({"font": font, "cap_height": float(cap), "dx": float(dx), "dy": float(dy),
-                                "min_coverage": t, "n_in_40_75": n_in, "max": int(counts.max()),
-                                "fits": bool(counts.max() < 110 and n_in >= 14)})
+                                "min_coverage": t, "n_in_40_75": n_in, "max": int(counts.max()), "box": box,
+                                "fits_counts": fits_counts, "fits": fits_counts and box <= 10})
     return out
 
 

@@ -35,23 +35,25 @@ from .objects import (IDEAL_KEYS, LINE_KEYS, energy_count, energy_count_study, i
                       random_positions, random_scene_study, switching_pair, unique_from_lines,
                       unique_from_projections)
 from .plots import DIAGONAL_PANELS, auto_cross_figure
-from .recognition import RULES, margin_study, noise_sweep, predictor_accuracy, recognition_study
-from .scoring import (FIG6_KINDS, compare_printed, counts_consistent, ensemble_numbers, ensemble_table,
-                      error_count_pmf, glyph_verdict, inside_widened, last_perfect, letter_numbers, member_alphabet,
-                      share_within, summarize_draws)
+from .recognition import DETECTIONS, RULES, detection_study, margin_study, noise_sweep, predictor_accuracy, recognition_study
+from .scoring import (FIG6_KINDS, close_to_printed, compare_printed, counts_consistent, counts_consistent_mc,
+                      ensemble_numbers, ensemble_table, error_count_pmf, glyph_verdict, inside_share, inside_widened,
+                      last_perfect,
+                      letter_numbers, member_alphabet, share_within, summarize_draws)
 from .snr import (combine_study, input_snr_ratio, loss_closed_form, output_snr_study, signal_1d_study, snr_signals,
                   texture_losses)
 from .theorems import central_slice_errors, eq3_errors, eq3_random_pairs, eq3_wrong_angle
 
 __all__ = [
     "central_slice_errors", "eq3_errors", "eq3_random_pairs", "eq3_wrong_angle",
-    "inside_widened", "error_count_pmf", "counts_consistent", "last_perfect", "summarize_draws",
+    "inside_widened", "inside_share", "error_count_pmf", "counts_consistent", "counts_consistent_mc", "last_perfect",
+    "summarize_draws",
     "in_frame", "peak_measures", "psr_as_row", "zero_mean_psr", "NOISY_QUANTITIES", "noisy_measures", "noisy_study",
     "PLANES", "NOISE_EXTENT", "snr_by_extent", "calibrated_extent", "peak_at_centre_study",
     "FIG6_KINDS", "ensemble_table", "member_alphabet", "letter_numbers", "ensemble_numbers", "share_within",
-    "compare_printed", "glyph_verdict",
+    "close_to_printed", "compare_printed", "glyph_verdict",
     "unit_image", "correlation_peak", "noisy_pair_study", "binary_vs_zero_mean", "magnitude_mismatch",
-    "noise_sweep", "recognition_study", "RULES", "margin_study", "predictor_accuracy",
+    "noise_sweep", "recognition_study", "RULES", "margin_study", "predictor_accuracy", "DETECTIONS", "detection_study",
     "snr_signals", "output_snr_study", "loss_closed_form", "input_snr_ratio", "texture_losses", "signal_1d_study",
     "combine_study",
     "detector_rule_study",

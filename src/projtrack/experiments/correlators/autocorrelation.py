@@ -33,7 +33,7 @@ __all__ = ["in_frame", "peak_measures", "psr_as_row", "zero_mean_psr", "NOISY_QU
 #: ``NOISE_EXTENT x NOISE_EXTENT`` pixels of the letter (and of the 32 x 32 letter image), the
 #: extent whose median 2-D SNR on the cyclic 64 x 64 plane is nearest the 100.8 of Fig. 5
 #: (calibrated by :func:`calibrated_extent` on the letter-autocorrelation page).
-NOISE_EXTENT: int = 29
+NOISE_EXTENT: int = 30
 
 #: The Fig. 5 numbers of :func:`noisy_measures`, in order.
 NOISY_QUANTITIES: tuple[str, ...] = ("2-D peak", "2-D PSR", "2-D SNR", "horizontal peak", "horizontal PSR",
@@ -244,26 +244,33 @@ def calibrated_extent(table: pd.DataFrame, printed: float, plane: str, column: s
     return int(table["noise extent"].iloc[int(np.argmin(np.abs(np.log(v / printed))))])
 
 
-def _centre_draw(rng, image, reference, sigma, extent, tol):
+def _centre_draw(rng, image, reference, sigma, extent, tol, detect):
     x = letters.noisy(image, sigma, rng, extent=extent)[0]  # Gaussian noise
-    plane = C.circular_correlate(x, reference)
-    p, q = np.unravel_index(np.argmax(plane), plane.shape)
-    hp = C.circular_correlate(C.project(x, 90), C.project(reference, 90))
-    vp = C.circular_correlate(C.project(x, 0), C.project(reference, 0))
-    return (abs(p - plane.shape[0] // 2) <= tol and abs(q - plane.shape[1] // 2) <= tol,
-            abs(int(np.argmax(hp)) - len(hp) // 2) <= tol, abs(int(np.argmax(vp)) - len(vp) // 2) <= tol)
+    planes = (C.circular_correlate(x, reference), C.circular_correlate(C.project(x, 90), C.project(reference, 90)),
+              C.circular_correlate(C.project(x, 0), C.project(reference, 0)))
+    out = []
+    for plane in planes:
+        seen = np.abs(plane) if detect == "magnitude" else plane  # the rectified output peaks where the bipolar does
+        peak = np.unravel_index(np.argmax(seen), seen.shape)
+        out.append(all(abs(int(k) - n // 2) <= tol for k, n in zip(peak, plane.shape)))
+    return out
 
 
 def peak_at_centre_study(image: np.ndarray, reference: np.ndarray, sigma: float, n_draws: int,
-                         rng: np.random.Generator, *, extent: int | None = None, tol: int = 1) -> np.ndarray:
+                         rng: np.random.Generator, *, extent: int | None = None, tol: int = 1,
+                         detect: str = "bipolar") -> np.ndarray:
     """Whether each cyclic correlation peak of a noisy ``image`` lies within ``tol`` of zero lag.
 
     ``image`` and ``reference`` are aligned frames of one size; noise as in
-    :func:`noisy_study`. Returns a bool array ``(n_draws, 3)``: the 2-D plane, the
-    horizontal and the vertical projection correlations.
+    :func:`noisy_study`. The peak is the largest value of the bipolar output (``detect``
+    ``"bipolar"``; the rectified output, negative values set to 0, peaks at the same place)
+    or of its magnitude (``"magnitude"``: what an intensity detector sees, where a large
+    negative value becomes a peak). Returns a bool array ``(n_draws, 3)``: the 2-D plane,
+    the horizontal and the vertical projection correlations.
     """
     image, reference = _check_pair(image, reference)
     sigma = as_real(sigma, "sigma", 0.0)
     n_draws = as_int(n_draws, "n_draws", minimum=1)
     tol = as_int(tol, "tol", minimum=0)
-    return np.array(montecarlo.run(_centre_draw, n_draws, as_rng(rng), image, reference, sigma, extent, tol))
+    detect = as_choice(detect, "detect", ("bipolar", "magnitude"))
+    return np.array(montecarlo.run(_centre_draw, n_draws, as_rng(rng), image, reference, sigma, extent, tol, detect))

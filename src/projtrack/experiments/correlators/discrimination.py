@@ -90,9 +90,11 @@ def binary_vs_zero_mean(images: np.ndarray, angles: Mapping[str, float | None]) 
     -------
     pandas.DataFrame
         One row per filter, input and correlation: ``filter``, ``input``, ``correlation``,
-        ``binary ratio``, ``zero-mean ratio``, ``cross most negative / peak`` (the most
-        negative value of the zero-mean cross-correlation over the zero-mean auto peak) and
-        ``auto most negative / peak`` (the same for the zero-mean autocorrelation of ``i``).
+        ``binary ratio``, ``zero-mean ratio``, ``magnitude ratio`` (the zero-mean ratio of the
+        largest magnitudes ``|c|``, what an intensity detector compares; the rectified output
+        has the zero-mean ratio), ``cross most negative / peak`` (the most negative value of
+        the zero-mean cross-correlation over the zero-mean auto peak) and ``auto most
+        negative / peak`` (the same for the zero-mean autocorrelation of ``i``).
     """
     images = as_array(images, "images", ndim=3, allow_empty=False)
     if len(images) < 2:
@@ -114,6 +116,7 @@ def binary_vs_zero_mean(images: np.ndarray, angles: Mapping[str, float | None]) 
                 rows.append({"filter": i, "input": j, "correlation": name,
                              "binary ratio": auto_b[i] / correlation_peak(binary[j], binary[i], angle),
                              "zero-mean ratio": auto_z[i] / float(cz.max()),
+                             "magnitude ratio": float(np.abs(auto_planes[i]).max()) / float(np.abs(cz).max()),
                              "cross most negative / peak": float(cz.min()) / auto_z[i],
                              "auto most negative / peak": float(auto_planes[i].min()) / auto_z[i]})
     return pd.DataFrame(rows)

@@ -8,7 +8,10 @@
 * :func:`margin_study`: the difference between the true class's score and the best false
   one, per projection, for several banks (does a 45-degree filter widen it?);
 * :func:`predictor_accuracy`: correctness of any classifiers (banks, baselines) over a
-  grid of noise levels, all on the same noisy images.
+  grid of noise levels, all on the same noisy images;
+* :func:`detection_study`: the paper's bank scored on its rectified output (negative values
+  set to 0, Secs. III.B and V) and on the magnitude of its output (what an intensity
+  detector sees), on the same noisy images.
 
 Each trial draws one noisy copy of every letter (:func:`projtrack.scenes.letters.noisy`,
 noise over the central ``extent x extent`` pixels, then the image made zero mean) per noise
@@ -21,11 +24,13 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
+from projtrack import correlators as C
 from projtrack import montecarlo
 from projtrack._validation import as_array, as_choice, as_int, as_real, as_rng
 from projtrack.scenes import letters
 
-__all__ = ["noise_sweep", "recognition_study", "RULES", "margin_study", "predictor_accuracy"]
+__all__ = ["noise_sweep", "recognition_study", "RULES", "margin_study", "predictor_accuracy", "DETECTIONS",
+           "detection_study"]
 
 #: The two classification rules of :func:`recognition_study`.
 RULES: tuple[str, ...] = ("sum of peaks", "summed output")
@@ -259,3 +264,68 @@ def predictor_accuracy(predictors: Mapping[str, Callable[[np.ndarray], np.ndarra
     res = montecarlo.run(_predictor_trial, n_draws, as_rng(rng), list(predictors.values()), images, labels_arr, sig,
                          _check_extent(extent))
     return np.array(res)
+
+
+#: The output detections of :func:`detection_study`.
+DETECTIONS: tuple[str, ...] = ("rectified", "magnitude")
+
+
+def _correlate_rows(P: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Full correlations of every row of ``P (n, L1)`` with every row of ``F (c, L2)``: ``(n, c, L1 + L2 - 1)``."""
+    L = P.shape[1] + F.shape[1] - 1
+    nfft = 1 << (L - 1).bit_length()
+    out = np.fft.irfft(np.fft.rfft(P, nfft)[:, None, :] * np.fft.rfft(F[:, ::-1], nfft)[None, :, :], nfft)
+    return out[..., :L]
+
+
+def _detected_scores(bank, X: np.ndarray) -> np.ndarray:
+    """Sum over the bank's angles of the largest rectified and of the largest absolute output: ``(2, n, classes)``."""
+    X = np.array(X, dtype=float)
+    if bank.zero_mean:
+        X -= X.mean(axis=(1, 2), keepdims=True)
+    if bank.normalize:
+        X /= np.sqrt(np.sum(X * X, axis=(1, 2), keepdims=True))
+    out = np.zeros((2, len(X), len(bank.classes_)))
+    for a, t in enumerate(bank.angles):
+        P = C.project_stack(X, t)
+        if bank.normalize_projections:
+            P = P / np.linalg.norm(P, axis=1, keepdims=True)
+        c = _correlate_rows(P, bank.filter_projections_[a])
+        out[0] += np.maximum(c.max(axis=2), 0.0)
+        out[1] += np.abs(c).max(axis=2)
+    return out
+
+
+def _detection_trial(rng, bank, images, labels, sigmas, extent):
+    out = np.zeros((len(sigmas), len(DETECTIONS), len(images)), dtype=bool)
+    for j, s in enumerate(sigmas):
+        X = letters.noisy(images, float(s), rng, extent=extent)[0]
+        scores = _detected_scores(bank, X)
+        out[j] = bank.classes_[np.argmax(scores, axis=2)] == labels
+    return out
+
+
+def detection_study(bank: object, images: np.ndarray, labels: Sequence[object], sigmas: Sequence[float],
+                    n_draws: int, rng: np.random.Generator, *, extent: int | None = None) -> np.ndarray:
+    """Which letters a projection bank gets right when its outputs are rectified or magnitude-detected.
+
+    The bank (a fitted :class:`projtrack.correlators.ProjectionCorrelationClassifier`)
+    scores each class by the sum over its angles of the largest value of each output, the
+    output either rectified (negative values set to 0, the "thresholded at zero volts"
+    output of Sec. III.B; its largest value is that of the bipolar output unless all are
+    negative) or magnitude-detected (``|c|``, what an intensity detector keeps, whose
+    negative peaks become positive). Noise as in :func:`predictor_accuracy` (Gaussian).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (n_draws, len(sigmas), len(DETECTIONS), n)
+        Correct or not, per trial, level, detection (:data:`DETECTIONS`) and image.
+    """
+    _check_bank(bank, "bank")
+    if not all(hasattr(bank, k) for k in ("filter_projections_", "angles", "normalize_projections")):
+        raise TypeError("bank must be a fitted ProjectionCorrelationClassifier")
+    images, labels_arr = _check_images(images, labels)
+    sig = _check_sigmas(sigmas)
+    n_draws = as_int(n_draws, "n_draws", minimum=1)
+    return np.array(montecarlo.run(_detection_trial, n_draws, as_rng(rng), bank, images, labels_arr, sig,
+                                   _check_extent(extent)))

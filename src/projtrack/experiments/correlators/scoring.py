@@ -1,25 +1,32 @@
 """Scoring a reproduction against the numbers Casasent & Song print, and the glyph ensembles it needs.
 
 * :func:`inside_widened`: is a printed value inside the widened central 95 % of our draws;
+  :func:`inside_share`: how settled that answer is (a bootstrap over the draws);
 * :func:`error_count_pmf` and :func:`counts_consistent`: are the printed error counts of
   the 26-letter test (0 errors at sigma 0.44, 2 at 0.45) plausible under per-letter
-  error rates we measured;
+  error rates we measured; :func:`counts_consistent_mc` adds the Monte Carlo uncertainty
+  of that answer (a bootstrap over the draws);
 * :func:`last_perfect`: the largest noise level of a grid up to which a classifier is
   always right;
 * :func:`summarize_draws`: median, central 95 % and the :func:`inside_widened` test of
   printed values, per reading.
 
-The report prints one number about its bitmaps, the 43 pixels of its C (Sec. III.B). That
-pins how many pixels the C has, not the font, the size or the sub-pixel position of the
-glyphs on the grid. :func:`projtrack.scenes.letters.glyph_ensemble` renders every
-combination of the serif fonts that ship with matplotlib, cap heights and sub-pixel shifts
-that gives a 43-pixel C; the glyph-ensemble functions measure the printed numbers on each:
+The report prints one number about its bitmaps, the 43 pixels of its C (Sec. III.B), and
+describes them (Sec. III.A: most letters in the central 10 x 10 pixels, with 40-75 pixels,
+all under 110). That pins how many pixels the C has and about how large the letters are,
+not the font or the sub-pixel position of the glyphs on the grid.
+:func:`projtrack.scenes.letters.glyph_ensemble` renders every combination of the serif
+fonts that ship with matplotlib, cap heights and sub-pixel shifts that gives a 43-pixel C
+and says which fit the description; the glyph-ensemble functions measure the printed
+numbers on each:
 
 * :func:`ensemble_table`: the ensemble as a table, one row per glyph set (``member``);
 * :func:`member_alphabet`: the 26 letters of one glyph set;
 * :func:`letter_numbers`: the Fig. 3, Fig. 4 and Fig. 6 numbers of one C and one P;
 * :func:`ensemble_numbers`: :func:`letter_numbers` of every glyph set;
-* :func:`share_within`: the share of glyph sets whose number is within a tolerance of the printed one;
+* :func:`close_to_printed` and :func:`share_within`: the chapter's rule for a glyph-dependent
+  number (within 10 % of the printed one, and nearer it than a no-information value such as
+  a cross/auto ratio of 1) and the share of glyph sets that pass it;
 * :func:`compare_printed` and :func:`glyph_verdict`: printed numbers against our glyph and the
   ensemble, and the chapter's verdict rule for glyph-dependent numbers.
 """
@@ -32,15 +39,16 @@ import numpy as np
 import pandas as pd
 
 from projtrack import correlators as C
-from projtrack._validation import as_array, as_probability, as_real
+from projtrack._validation import as_array, as_int, as_probability, as_real, as_rng
 from projtrack.scenes import letters
 
 from .autocorrelation import in_frame, peak_measures
 from .discrimination import correlation_peak, unit_image
 
-__all__ = ["inside_widened", "error_count_pmf", "counts_consistent", "last_perfect", "summarize_draws",
+__all__ = ["inside_widened", "inside_share", "error_count_pmf", "counts_consistent", "counts_consistent_mc", "last_perfect",
+           "summarize_draws",
            "ensemble_table", "member_alphabet", "FIG6_KINDS", "letter_numbers", "ensemble_numbers", "share_within",
-           "compare_printed", "glyph_verdict"]
+           "close_to_printed", "compare_printed", "glyph_verdict"]
 
 
 def inside_widened(values: np.ndarray, printed: float, *, widen: float = 0.1) -> bool:
@@ -54,6 +62,20 @@ def inside_widened(values: np.ndarray, printed: float, *, widen: float = 0.1) ->
     widen = as_real(widen, "widen", 0.0)
     lo, hi = np.quantile(v, [0.025, 0.975])
     return bool((1 - widen) * lo <= printed <= (1 + widen) * hi)
+
+
+def inside_share(values: np.ndarray, printed: float, rng: np.random.Generator, *, widen: float = 0.1,
+                 n_boot: int = 400) -> float:
+    """Share of bootstrap resamples of ``values`` in which :func:`inside_widened` holds.
+
+    The Monte Carlo uncertainty of the criterion's answer: near 1 or 0 the draws settle it;
+    in between (say 5-95 %) the printed value sits on the edge of the widened interval.
+    """
+    v = as_array(values, "values", ndim=1, allow_empty=False)
+    rng = as_rng(rng)
+    n_boot = as_int(n_boot, "n_boot", minimum=1)
+    return float(np.mean([inside_widened(v[rng.integers(0, len(v), size=len(v))], printed, widen=widen)
+                          for _ in range(n_boot)]))
 
 
 def error_count_pmf(p: np.ndarray) -> np.ndarray:
@@ -92,6 +114,48 @@ def counts_consistent(p_first: np.ndarray, p_second: np.ndarray, *, level: float
         raise ValueError(f"p_second must hold at least 2 error rates, got {len(b) - 1}")
     ok = bool(a[0] >= level and b[2:].sum() >= level and b[:3].sum() >= level)
     return ok, float(a[0]), float(b[2:].sum())
+
+
+def counts_consistent_mc(correct_first: np.ndarray, correct_second: np.ndarray, rng: np.random.Generator, *,
+                         n_boot: int = 400, level: float = 0.025) -> dict[str, object]:
+    """:func:`counts_consistent` from Monte Carlo draws, with a bootstrap of its uncertainty.
+
+    Parameters
+    ----------
+    correct_first, correct_second : array_like of bool, shape (n_draws, n_items)
+        Whether each item was classified correctly in each draw, at the first and the
+        second noise level (e.g. one slice of
+        :func:`projtrack.experiments.correlators.recognition_study`).
+    rng : numpy.random.Generator
+        Source of the bootstrap resamples.
+    n_boot : int, default 400
+        Bootstrap resamples of the draws (with replacement, the same for both levels).
+    level : float, default 0.025
+        The level of :func:`counts_consistent`.
+
+    Returns
+    -------
+    dict
+        ``consistent`` and ``P0`` (:func:`counts_consistent` on the measured error rates),
+        ``P0 low`` and ``P0 high`` (the bootstrap 2.5 % and 97.5 % quantiles of ``P0``),
+        ``share consistent`` (the share of resamples that are consistent) and ``edge``
+        (True when the answer is not settled by the draws: the share is between 5 % and 95 %).
+    """
+    a = np.asarray(correct_first)
+    b = np.asarray(correct_second)
+    if a.ndim != 2 or a.shape != b.shape or a.size == 0 or a.dtype != bool or b.dtype != bool:
+        raise ValueError("correct_first and correct_second must be bool arrays of one shape (n_draws, n_items)")
+    rng = as_rng(rng)
+    n_boot = as_int(n_boot, "n_boot", minimum=1)
+    ok, p0, _ = counts_consistent(1.0 - a.mean(axis=0), 1.0 - b.mean(axis=0), level=level)
+    p0s, oks = np.empty(n_boot), np.empty(n_boot, dtype=bool)
+    for i in range(n_boot):
+        idx = rng.integers(0, len(a), size=len(a))
+        oks[i], p0s[i], _ = counts_consistent(1.0 - a[idx].mean(axis=0), 1.0 - b[idx].mean(axis=0), level=level)
+    share = float(oks.mean())
+    lo, hi = np.quantile(p0s, [0.025, 0.975])
+    return {"consistent": ok, "P0": p0, "P0 low": float(lo), "P0 high": float(hi), "share consistent": share,
+            "edge": bool(0.05 <= share <= 0.95)}
 
 
 def last_perfect(accuracy: np.ndarray, levels: np.ndarray) -> float:
@@ -210,37 +274,64 @@ def letter_numbers(c: np.ndarray, p: np.ndarray, frame: int = 64) -> dict[str, f
     return out
 
 
-def ensemble_numbers(table: pd.DataFrame) -> pd.DataFrame:
-    """:func:`letter_numbers` of the C and P of every glyph set of ``table`` (:func:`ensemble_table`)
-    that fits the description of Sec. III.A.
+def ensemble_numbers(table: pd.DataFrame, *, which: str | None = "fits") -> pd.DataFrame:
+    """:func:`letter_numbers` of the C and P of the glyph sets of ``table`` (:func:`ensemble_table`).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`ensemble_table`.
+    which : str or None, default "fits"
+        A bool column of ``table`` that selects the glyph sets measured: ``"fits"`` (the whole
+        description of Sec. III.A), ``"fits_counts"`` (its pixel counts only); ``None``: all.
 
     Returns
     -------
     pandas.DataFrame
-        The columns ``member``, ``font``, ``cap_height``, ``dx``, ``dy`` of ``table`` and one
-        column per number of :func:`letter_numbers`.
+        The columns ``member``, ``font``, ``cap_height``, ``dx``, ``dy``, ``box`` of ``table``
+        and one column per number of :func:`letter_numbers`.
     """
     if not isinstance(table, pd.DataFrame) or table.empty:
         raise ValueError("table must be a non-empty DataFrame from ensemble_table")
+    if which is not None and which not in table:
+        raise ValueError(f"table has no column {which!r} to select glyph sets by")
     rows = []
-    for _, row in table[table["fits"]].iterrows() if "fits" in table else table.iterrows():
+    for _, row in (table if which is None else table[table[which].astype(bool)]).iterrows():
         m = _member(row)
         c, p = (letters.render_letter(ch, 32, m["cap_height"], m["min_coverage"], font=m["font"],
                                       offset=m["offset"]) for ch in "CP")
-        rows.append({k: row[k] for k in ("member", "font", "cap_height", "dx", "dy")} | letter_numbers(c, p))
+        rows.append({k: row[k] for k in ("member", "font", "cap_height", "dx", "dy", "box") if k in row}
+                    | letter_numbers(c, p))
     return pd.DataFrame(rows)
 
 
-def share_within(values: np.ndarray, printed: float, rtol: float = 0.10) -> float:
-    """Share of ``values`` within ``rtol`` (relative) of the ``printed`` value."""
+def share_within(values: np.ndarray, printed: float, rtol: float = 0.10, *, baseline: float | None = None) -> float:
+    """Share of ``values`` that match the ``printed`` value by the chapter's rule (:func:`close_to_printed`)."""
     v = as_array(values, "values", ndim=1, allow_empty=False)
+    return float(np.mean(close_to_printed(v, printed, rtol, baseline=baseline)))
+
+
+def close_to_printed(values: np.ndarray, printed: float, rtol: float = 0.10, *,
+                     baseline: float | None = None) -> np.ndarray:
+    """Whether each value matches a printed glyph-dependent number: the chapter's rule.
+
+    A value matches when it is within ``rtol`` (relative) of ``printed`` and, where the
+    number has a no-information value ``baseline`` (1 for a cross/auto peak ratio: no
+    discrimination), it is also nearer ``printed`` than ``baseline``, so that the trivial
+    baseline itself cannot pass (a ratio of 1 is within 10 % of a printed 0.95).
+    """
+    v = np.asarray(values, dtype=float)
     printed = as_real(printed, "printed")
     rtol = as_real(rtol, "rtol", 0.0)
-    return float(np.mean(np.abs(v - printed) <= rtol * abs(printed)))
+    ok = np.abs(v - printed) <= rtol * abs(printed)
+    if baseline is not None:
+        baseline = as_real(baseline, "baseline")
+        ok &= np.abs(v - printed) < np.abs(v - baseline)
+    return ok
 
 
 def compare_printed(numbers: pd.DataFrame, ours: Mapping[str, float], printed: Mapping[str, float],
-                    rtol: float = 0.10) -> pd.DataFrame:
+                    rtol: float = 0.10, *, baseline: Mapping[str, float] | None = None) -> pd.DataFrame:
     """Printed values beside ours and the glyph ensemble's range.
 
     Parameters
@@ -252,38 +343,42 @@ def compare_printed(numbers: pd.DataFrame, ours: Mapping[str, float], printed: M
     printed : mapping of column to the paper's value
         The numbers compared (columns of ``numbers``).
     rtol : float, default 0.10
-        The tolerance of :func:`share_within`.
+        The tolerance of :func:`close_to_printed`.
+    baseline : mapping of column to value, optional
+        The no-information value of a number (:func:`close_to_printed`), where it has one.
 
     Returns
     -------
     pandas.DataFrame
         One row per printed number: ``quantity``, ``paper``, ``ours``, ``glyph sets: min``,
-        ``max`` and ``within 10 %`` (the share of glyph sets within ``rtol``).
+        ``max`` and ``match`` (the share of glyph sets that match, :func:`share_within`).
     """
+    baseline = dict(baseline or {})
     rows = []
     for q, value in printed.items():
         if q not in numbers or q not in ours:
             raise ValueError(f"{q!r} must be a column of numbers and a key of ours")
         v = numbers[q].to_numpy(dtype=float)
         rows.append({"quantity": q, "paper": float(value), "ours": float(ours[q]), "glyph sets: min": float(v.min()),
-                     "max": float(v.max()), "within 10 %": share_within(v, value, rtol)})
+                     "max": float(v.max()), "match": share_within(v, value, rtol, baseline=baseline.get(q))})
     return pd.DataFrame(rows)
 
 
 def glyph_verdict(ours: Mapping[str, float], numbers: pd.DataFrame, printed: Mapping[str, float],
-                  rtol: float = 0.10) -> str:
+                  rtol: float = 0.10, *, baseline: Mapping[str, float] | None = None) -> str:
     """The chapter's verdict for numbers that depend on the unpublished glyphs.
 
-    ``within-tolerance`` if our glyph gives every printed number of ``printed`` within
-    ``rtol``; ``qualitative`` if at least one glyph set of the ensemble (``numbers``) does;
-    ``differs`` if none does.
+    ``within-tolerance`` if our glyph matches every printed number of ``printed``
+    (:func:`close_to_printed`, with the ``baseline`` of each number where it has one);
+    ``qualitative`` if at least one glyph set of the ensemble (``numbers``) matches them
+    all; ``differs`` if none does.
     """
-    rtol = as_real(rtol, "rtol", 0.0)
     if not printed:
         raise ValueError("printed must not be empty")
+    baseline = dict(baseline or {})
 
     def close(values, q):
-        return np.abs(np.asarray(values, dtype=float) - printed[q]) <= rtol * abs(printed[q])
+        return close_to_printed(values, printed[q], rtol, baseline=baseline.get(q))
 
     if all(bool(close([ours[q]], q)[0]) for q in printed):
         return "within-tolerance"
