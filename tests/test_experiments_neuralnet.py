@@ -775,3 +775,104 @@ def test_table1_tables_have_six_columns_at_most():
     assert views["outcomes"][0]["wandering %"].tolist() == [0.0, 100.0]
     with pytest.raises(ValueError, match="noise levels"):
         table1_tables(t1, reps.iloc[:1], t1_tol, reps_tol)
+
+
+# ----------------------------------------------------------------------------- review fixes: energy minimum,
+# first-sweep pattern, end states, operation counts
+
+
+def _brute_minimum(D, n_t):
+    import itertools
+    n_q, n_m = D.shape[0], D.shape[1]
+    inj = list(itertools.permutations(range(n_m), n_t))
+    best = np.inf
+    for p0 in itertools.combinations(range(n_m), n_t):
+        for rest in itertools.product(inj, repeat=n_q + 1):
+            frames = [p0, *rest]
+            c = sum(D[a][frames[a][i], frames[a + 1][i], frames[a + 2][i]] for a in range(n_q) for i in range(n_t))
+            best = min(best, c)
+    return best
+
+
+def test_degraded_optimum_matches_brute_force_and_the_square_optimum():
+    from projtrack.experiments.neuralnet import degraded_optimum
+    rng = np.random.default_rng(4)
+    D = nn.distance_tensor(rng.random((4, 4, 3)))      # 4 frames, N_M = 4 (two triples)
+    A, cost = degraded_optimum(D, 3)                  # N_T = 3 < N_M
+    assert A.shape == (3, 4) and all(len(set(A[:, a])) == 3 for a in range(4))
+    np.testing.assert_allclose(cost, nn.assignment_cost(A, D), rtol=1e-12)
+    np.testing.assert_allclose(cost, _brute_minimum(D, 3), rtol=1e-12)
+    D5 = nn.distance_tensor(rng.random((5, 4, 3)))     # N_T = N_M: same optimum as optimal_assignment
+    np.testing.assert_allclose(degraded_optimum(D5, 4)[1], nn.optimal_assignment(D5)[1], rtol=1e-12)
+    with pytest.raises(ValueError):
+        degraded_optimum(D, 5)
+    with pytest.raises(ValueError):
+        degraded_optimum(np.zeros((2, 3, 3)), 2)
+
+
+def test_degraded_optimum_study_keeps_clean_tracks_and_can_fail():
+    from projtrack.experiments.neuralnet import degraded_optimum_study
+    rows = degraded_optimum_study([("clean", 0, 0), ("both", 1, 1)], 3, 1, seed=5)
+    assert [r["condition"] for r in rows] == ["clean", "both"]
+    assert rows[0]["tolerated %"] == 100.0 and rows[0]["spurious measurement used %"] == 0.0
+    for r in rows:
+        assert r["global minimum"] is True
+        shares = [r[k] for k in r if k.endswith(" %") and k not in ("tolerated %", "spurious measurement used %")]
+        assert sum(shares) == pytest.approx(100.0)
+    # with a spurious and a missing measurement the minimum is scored, not assumed to tolerate them
+    assert 0.0 <= rows[1]["tolerated %"] <= 100.0
+
+
+def test_degraded_optimum_puts_a_spurious_point_on_a_track_when_it_fits_better():
+    from projtrack.experiments.neuralnet import DegradedDraw, degraded_optimum, degraded_outcome
+    # two straight tracks; frame 2's real measurement of target 0 is off its line, a spurious one lies on it
+    t = np.arange(5.0)[:, None]
+    tracks = np.stack([np.hstack([t, 0 * t, 0 * t]), np.hstack([t, 10 + 0 * t, 0 * t])], axis=1)   # (5, 2, 3)
+    pos = np.concatenate([tracks, np.full((5, 1, 3), 50.0)], axis=1)
+    pos[2, 0] = [2.0, 4.0, 0.0]
+    pos[2, 2] = [2.0, 0.0, 0.0]
+    labels = np.tile([0, 1, -1], (5, 1))
+    A, _ = degraded_optimum(nn.distance_tensor(pos), 2)
+    assert A[0, 2] == 2
+    draw = DegradedDraw(pos, labels, np.zeros((5, 3), bool), np.array([[0] * 5, [1] * 5]), np.zeros((1, 2, 3, 5)))
+    assert degraded_outcome(nn.assignment_to_states(A, 3), True, draw) == "spurious on a true track"
+
+
+def test_first_sweep_pattern_reads_rows_and_columns():
+    from projtrack.experiments.neuralnet import first_sweep_pattern
+    H = np.zeros((3, 4, 4, 5))
+    H[1, 0, 0, 2] = H[1, 0, 1, 2] = 1          # sweep 1: target 0 holds two measurements in frame 2
+    H[2, 1, 3, 0] = H[2, 2, 3, 0] = 1          # sweep 2: measurement 3 held by two targets in frame 0
+    assert first_sweep_pattern(H) == {"active": 2, "target with several": True, "measurement with several": False,
+                                      "conflict": True}
+    assert first_sweep_pattern(H, 2)["measurement with several"] and not first_sweep_pattern(H, 2)["target with several"]
+    assert not first_sweep_pattern(H, 0)["conflict"]
+    with pytest.raises(ValueError):
+        first_sweep_pattern(H, 3)
+
+
+def test_end_states_partition_the_runs():
+    from projtrack.experiments.neuralnet import end_states
+    df = end_states({"as printed": {}, "no self term": {"self_coupling": False}}, [1, 256], [0.0], 6, seed=3)
+    assert len(df) == 4
+    parts = df[["correct %", "wrong admissible %", "inadmissible %", "not converged %"]].sum(axis=1)
+    np.testing.assert_allclose(parts, 100.0)
+    # D in pixels without the self term: conflicts stay on (the page's dropdown explains why)
+    assert df.set_index(["rule", "unit (px)"]).loc[("no self term", 1.0), "inadmissible %"] == 100.0
+    with pytest.raises(TypeError):
+        end_states({}, [1], [0.0], 2, seed=1)
+
+
+def test_operation_counts_by_hand_and_descent_rounds():
+    from projtrack.experiments.neuralnet import descent_rounds, operation_counts
+    c = operation_counts(4)
+    # net: 16 neurons per frame, each 4 + 4 + 16 terms of terms 1-3 and 16 products per triple (1, 2, 3, 2, 1)
+    assert c["net, one sweep"] == 16 * (5 * 24 + 16 * 9) == 4224
+    assert c["net, one run"] == 19 * 4224
+    assert c["exact optimum"] == 3 * 24 ** 3 * 4
+    assert c["coordinate descent, one round"] == 16 * 9 + 5 * 64
+    assert operation_counts(4, net_sweeps=1, descent_rounds=2)["coordinate descent, one run"] == 2 * 464
+    with pytest.raises(ValueError):
+        operation_counts(4, n_frames=2)
+    r = descent_rounds(4, 0.0, 3, seed=1)
+    assert r.shape == (3,) and np.all(r >= 1)

@@ -21,16 +21,16 @@ Modules (everything public is re-exported here):
 """
 
 from .comparison import (METHODS, accuracy, comparison_cells, comparison_trial, frame_descent, frame_rule_study,
-                         frame_rule_table, nearest_admissible, noise_sweep, plot_comparison, plot_timing, size_sweep, update_order_study)
+                         frame_rule_table, nearest_admissible, noise_sweep, operation_counts, descent_rounds, plot_comparison, plot_timing, size_sweep, update_order_study)
 from .criterion import (PAPER_FAILURES, ci_step, fmt_p, k_range, mode_probability, p_row, p_table, rate_ci,
                         stable_down, stable_up, table1_readings, table1_tables, ten_run_replications)
 from .degraded import (OUTCOMES, TOLERATED, DegradedDraw, bound_text, central_differences, connection_check,
-                       connection_table, degraded_outcome, degraded_study, draw_degraded, eq8_term3_check,
+                       connection_table, degraded_outcome, degraded_optimum, degraded_optimum_study, degraded_study, draw_degraded, eq8_term3_check,
                        gradient_forms, plot_architecture, term3_eq9, term3_printed, term3_read)
 from .sensitivity import (SENSITIVITY_RULES, plot_readings, sensitivity_readings, sensitivity_seed, sensitivity_study,
                           sensitivity_table, sensitivity_verdicts)
 from .studies import (TABLE1_KEYS, bound_direct_check, bound_holds, bound_table, bound_trial, cut_for_rates,
-                      direct_check_trial, evolution_trial, fixed_point_bound, fixed_point_grid, plot_fixed_point_bound,
+                      direct_check_trial, evolution_trial, first_sweep_pattern, end_states, fixed_point_bound, fixed_point_grid, plot_fixed_point_bound,
                       sensitivity_cell, sensitivity_cells, sensitivity_trial, table1_study, table1_trial, truth_index)
 from .table1 import (FAILURE_MODES, MODES, SimulationDraw, draw_simulation, draws_modes, mode_counts, one_pairing_away,
                      plot_fig5, plot_table1, run_draws, run_modes, score_simulation, simulate, simulate_trials)
@@ -116,4 +116,10 @@ __all__ = [
     "draw_degraded",
     "degraded_outcome",
     "degraded_study",
+    "degraded_optimum",
+    "degraded_optimum_study",
+    "first_sweep_pattern",
+    "end_states",
+    "operation_counts",
+    "descent_rounds",
 ]

@@ -15,15 +15,22 @@ Other update rules of the same energy. Sec. VI updates the neurons serially and 
 "results in faster convergence than if all new neuron states are calculated in parallel and
 simultaneously fed back, as is usually done": :func:`update_order_study` runs both orders on the
 same data sets and starts. The chapter's fixed-point bound shows that a neuron-by-neuron rule of
-eq. (4) cannot keep a noisy correct assignment, whatever the start; the nearest rule that keeps
-the paper's energy, its binary neurons and its serial sweeps, and does find noisy tracks, updates
-the neurons of one *frame* together. With the other frames fixed, terms 1-3 of eq. (8) vanish on
+eq. (4) cannot keep a noisy correct assignment, whatever the start; a rule that keeps the paper's
+energy and does find noisy tracks updates the neurons of one *frame* together. It is the
+block-coordinate descent of :func:`projtrack.neuralnet.coordinate_descent_assignment` with another
+start (a conventional solver, not a neural rule), and it is not shown to be the nearest working
+rule: no rule closer to eq. (4), such as swaps of two targets within a frame, is tried. With the other frames fixed, terms 1-3 of eq. (8) vanish on
 every admissible state of the frame and term 4 is linear in it, so the frame's state of least
 energy is a linear assignment (:func:`frame_descent`, from the admissible state nearest to the
 net's start, :func:`nearest_admissible`; :func:`frame_rule_study` on the Table 1 data sets,
 :func:`frame_rule_table` beside the paper's Table 1). Every
 state stays admissible, the energy falls at every change, and the run stops at a state no single
 frame can improve. :func:`plot_comparison` and :func:`plot_timing` draw the page's figures.
+
+Computation. Sec. II says conventional optimisation "generally require[s] much more computation
+than the Hopfield net": :func:`operation_counts` counts the arithmetic operations of each solver
+per data set (machine-independent, unlike timings), and :func:`descent_rounds` the rounds
+coordinate descent takes.
 """
 
 from __future__ import annotations
@@ -44,8 +51,7 @@ from .table1 import draw_simulation, run_draws, score_simulation, simulate
 
 __all__ = ["METHODS", "comparison_trial", "comparison_cells", "accuracy", "noise_sweep", "size_sweep",
            "nearest_admissible", "frame_descent", "frame_rule_study", "frame_rule_table", "update_order_study",
-           "plot_comparison",
-           "plot_timing"]
+           "plot_comparison", "plot_timing", "operation_counts", "descent_rounds"]
 
 #: The compared methods and the key of their per-run or per-data-set success in :func:`simulate`.
 METHODS = {"net": "correct", "optimum": "optimal_correct", "coordinate descent": "cd_correct",
@@ -426,3 +432,87 @@ def plot_timing(timing, styles: Sequence[str]):
     ax.legend(frameon=False, loc="center left", bbox_to_anchor=(1.0, 0.5))
     fig.tight_layout()
     return fig
+
+
+# ----------------------------------------------------------------------------- computation
+
+
+def _triples_per_frame(n_frames: int) -> np.ndarray:
+    """How many of the triples (a, a+1, a+2) of eq. (7) contain each frame."""
+    q = np.arange(n_frames - 2)
+    return np.array([int(np.sum((q <= a) & (a <= q + 2))) for a in range(n_frames)])
+
+
+def operation_counts(n_targets: int, n_frames: int = 5, net_sweeps: float = 19.0,
+                     descent_rounds: float = 3.0) -> dict[str, float]:
+    """Arithmetic operations (additions and multiplications) of each solver on one data set, ``N_M = N_T``.
+
+    A machine-independent measure of computation, counted from the algorithms as written:
+
+    * **net, one sweep**: every neuron evaluates eq. (9) once: ``N_T + N_M + N_T N_M`` terms of
+      the sums of terms 1-3, and ``N_M^2`` products of term 4 for each triple of frames that
+      contains its frame;
+    * **net, one run**: ``net_sweeps`` sweeps (default the paper's 19 iterations without noise);
+    * **exact optimum**: the dynamic programme of :func:`projtrack.neuralnet.optimal_assignment`,
+      ``N_T`` additions for each of the ``(N_T!)^3`` permutation triples of each of the
+      ``N_P - 2`` frame triples;
+    * **coordinate descent, one round**: per frame, the ``N_T N_M`` entries of its cost matrix
+      (one addition per triple containing the frame) and ``N_T^3`` for the linear assignment;
+    * **coordinate descent, one run**: ``descent_rounds`` rounds.
+
+    Parameters
+    ----------
+    n_targets : int
+        ``N_T = N_M``.
+    n_frames : int, default 5
+        ``N_P``.
+    net_sweeps, descent_rounds : float
+        Sweeps of a net run and rounds of a descent run.
+
+    Returns
+    -------
+    dict
+        ``targets`` and the five counts above (floats: the exact optimum exceeds 64-bit integers
+        from ``N_T = 10``).
+    """
+    import math
+
+    n = as_int(n_targets, "n_targets", minimum=1)
+    n_p = as_int(n_frames, "n_frames", minimum=3)
+    sweeps = as_real(net_sweeps, "net_sweeps", 0.0)
+    rounds = as_real(descent_rounds, "descent_rounds", 0.0)
+    tri = _triples_per_frame(n_p)
+    sweep = int(sum(n * n * (n + n + n * n + k * n * n) for k in tri))
+    dp = (n_p - 2) * math.factorial(n) ** 3 * n
+    rnd = int(sum(n * n * k + n ** 3 for k in tri))
+    return {"targets": n, "net, one sweep": float(sweep), "net, one run": sweeps * sweep, "exact optimum": float(dp),
+            "coordinate descent, one round": float(rnd), "coordinate descent, one run": rounds * rnd}
+
+
+def descent_rounds(n_targets: int, noise_percent: float, n_datasets: int, seed: int) -> np.ndarray:
+    """Rounds of block-coordinate descent from the greedy start, the confirming round included.
+
+    :func:`frame_descent` from :func:`projtrack.neuralnet.greedy_assignment` (the start of
+    :func:`projtrack.neuralnet.coordinate_descent_assignment`) on ``n_datasets`` data sets of
+    :func:`projtrack.experiments.neuralnet.draw_simulation` drawn from
+    ``numpy.random.default_rng(seed)``.
+
+    Parameters
+    ----------
+    n_targets : int
+    noise_percent : float
+    n_datasets : int
+    seed : int
+
+    Returns
+    -------
+    ndarray of int, shape (n_datasets,)
+    """
+    from projtrack.neuralnet import greedy_assignment
+
+    n_targets = as_int(n_targets, "n_targets", minimum=2)
+    n_datasets = as_int(n_datasets, "n_datasets", minimum=1)
+    seed = as_int(seed, "seed", minimum=0)
+    draws = montecarlo.run(draw_simulation, n_datasets, np.random.default_rng(seed), 1, 1, noise_percent,
+                           n_targets=n_targets)
+    return np.array([frame_descent(d.D[0], greedy_assignment(d.D[0]))[1] + 1 for d in draws])

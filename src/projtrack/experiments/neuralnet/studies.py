@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from projtrack import montecarlo
-from projtrack._validation import as_int, as_probability, as_real, as_rng
+from projtrack._validation import as_array, as_int, as_probability, as_real, as_rng
 from projtrack.neuralnet import (assignment_max_sums, distance_tensor, fixed_point_limit, initial_states,
                                  is_correct_assignment, is_fixed_point, run_net, states_to_assignment)
 from projtrack.scenes.tracks3d import TrackScene, make_tracks
@@ -52,6 +52,8 @@ __all__ = [
     "sensitivity_cell",
     "sensitivity_cells",
     "evolution_trial",
+    "first_sweep_pattern",
+    "end_states",
     "truth_index",
     "bound_trial",
     "fixed_point_bound",
@@ -508,3 +510,79 @@ def plot_fixed_point_bound(bound: Mapping[float, object], cut_book: float, cut_n
     ax.legend(frameon=False, loc="center right")
     fig.tight_layout()
     return fig
+
+
+def first_sweep_pattern(history: np.ndarray, sweep: int = 1) -> dict[str, Any]:
+    """The state of one run after a sweep, against Sec. VI's description of Fig. 5.
+
+    The paper: after the first iteration "the target-measurement associations appear random
+    (i.e. the neural net has assigned many of the measurements to only one target and vice
+    versa)". Read: in some frame a target holds two or more measurements, or a measurement is
+    held by two or more targets.
+
+    Parameters
+    ----------
+    history : array_like, shape (n_sweeps + 1, N_T, N_M, N_P)
+        The start and the state after every sweep (``history`` of :func:`evolution_trial`).
+    sweep : int, default 1
+        Which sweep's state.
+
+    Returns
+    -------
+    dict
+        ``active`` (number of neurons on), ``target with several`` (some target holds two or
+        more measurements in some frame), ``measurement with several`` (the converse) and
+        ``conflict`` (either).
+    """
+    H = as_array(history, "history", ndim=4)
+    sweep = as_int(sweep, "sweep", minimum=0, maximum=H.shape[0] - 1)
+    X = np.rint(H[sweep]).astype(int)
+    rows, cols = X.sum(axis=1), X.sum(axis=0)   # (N_T, N_P), (N_M, N_P)
+    t, m = bool((rows >= 2).any()), bool((cols >= 2).any())
+    return {"active": int(X.sum()), "target with several": t, "measurement with several": m, "conflict": t or m}
+
+
+def end_states(rules: Mapping[str, Mapping[str, Any]], units: Sequence[float], noise_levels: Sequence[float],
+               n_runs: int, seed: int) -> pd.DataFrame:
+    """How the runs of several update rules end, admissible or not, under several units of D.
+
+    Level ``j`` draws ``n_runs`` simulations (one data set and start each,
+    :func:`~projtrack.experiments.neuralnet.draw_simulation` in pixels) from
+    ``numpy.random.default_rng([seed, j])``; every rule and unit runs on them.
+
+    Parameters
+    ----------
+    rules : mapping of label to options of :func:`projtrack.neuralnet.run_net`
+    units : sequence of float
+        Units of D in pixels.
+    noise_levels : sequence of float
+    n_runs : int
+    seed : int
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``rule``, ``unit (px)``, ``noise %`` and the percentages of runs that converge to the
+        true assignment (``correct %``), to another admissible state (``wrong admissible %``),
+        to an inadmissible state (``inadmissible %``), or do not converge.
+    """
+    if not isinstance(rules, Mapping) or not rules:
+        raise TypeError("rules must be a non-empty mapping of label -> options")
+    units = [as_real(u, "unit", 0.0, low_open=True) for u in units]
+    levels = [as_real(n, "noise level", 0.0) for n in noise_levels]
+    n_runs = as_int(n_runs, "n_runs", minimum=1)
+    seed = as_int(seed, "seed", minimum=0)
+    rows = []
+    for j, noise in enumerate(levels):
+        d = draw_simulation(np.random.default_rng([seed, j]), n_runs, 1, noise, unit=1.0)
+        for label, options in rules.items():
+            for u in units:
+                r = run_net(d.D / u, d.X0, **options)
+                A = [states_to_assignment(r.states[k]) if r.converged[k] else None for k in range(n_runs)]
+                ok = [a is not None and is_correct_assignment(a, s.labels) for a, s in zip(A, d.scenes)]
+                inad = [bool(r.converged[k]) and A[k] is None for k in range(n_runs)]
+                rows.append({"rule": label, "unit (px)": u, "noise %": noise, "correct %": 100 * float(np.mean(ok)),
+                             "wrong admissible %": 100 * float(np.mean(r.converged & ~np.array(ok) & ~np.array(inad))),
+                             "inadmissible %": 100 * float(np.mean(inad)),
+                             "not converged %": 100 * float(np.mean(~r.converged))})
+    return pd.DataFrame(rows)
