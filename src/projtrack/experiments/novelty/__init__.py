@@ -3,7 +3,7 @@
 Modules:
 
 - :mod:`~projtrack.experiments.novelty.routes`: the KL algorithms against exact oracles (VIP vs large matrix, recursion vs batch, near-duplicate frames, Eq. (12)'s two printed forms, the ranks of R and C) and streaming baselines.
-- :mod:`~projtrack.experiments.novelty.street`: the rules of Figs. 2-3 (the order of frames 2-4, the entry, the visible-ghost area), the synthetic street scene calibrated on the printed V_1 and n_2 with its readings of what the text leaves open, and what every claim reads on one sequence.
+- :mod:`~projtrack.experiments.novelty.street`: the rules of Figs. 2-3 (the order of frames 2-4, the entry, the visible-ghost area), the synthetic street scene calibrated on the printed V_1, n_2 and n_8 with its readings of what the text leaves open, and what every claim reads on one sequence.
 - :mod:`~projtrack.experiments.novelty.summaries`: the street-scene claims judged over the readings (shares of draws, the verdict rule and its tolerance).
 - :mod:`~projtrack.experiments.novelty.printed`: the report's printed Fig. 2 numbers (V_2, F_4, F_8) recomputed from its printed novelties, and the bound that pins frame 8's update count.
 - :mod:`~projtrack.experiments.novelty.realvideo`: the real plaza video (residual location, calibration to the printed brightness and contrast, rank margin, energy kept).
@@ -25,7 +25,7 @@ from .routes import (eq12_forms, near_duplicate_study, route_errors, streaming_c
                      vip_vs_large)
 from .street import (CONTRARY_READINGS, FIG2_SETTINGS, FIG3_SETTINGS, NOISE_STD, PIXEL_THRESHOLD,
                      PRINTED_RMS, READINGS, VISIBILITY_THRESHOLDS, calibrate_contrast, calibrate_gain,
-                     calibrate_readings, entry_marked, frame2_quiet, ghost_area, ghost_decay, ghost_rms,
+                     calibrate_person, calibrate_readings, entry_marked, frame2_quiet, ghost_area, ghost_decay, ghost_rms,
                      memory_updates, novel_pixel_quality, novelty_against_first, order_2_4, reading_draw,
                      reading_draws, record_table, sequence_readings, threshold_sweep)
 from .summaries import (CLAIMS, claim_shares, claim_table, medians, real_claims, real_table, share_tolerance,
@@ -44,7 +44,7 @@ __all__ = [
     "local_change_novelty_bound", "local_change_novelty", "min_energy_share",
     # calibrated scene and readings
     "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "VISIBILITY_THRESHOLDS", "novelty_against_first",
-    "calibrate_gain", "calibrate_contrast", "calibrate_readings", "frame2_quiet", "ghost_rms",
+    "calibrate_gain", "calibrate_contrast", "calibrate_person", "calibrate_readings", "frame2_quiet", "ghost_rms",
     "memory_updates", "novel_pixel_quality", "sequence_readings", "reading_draw", "reading_draws",
     "threshold_sweep", "ghost_decay",
     "CLAIMS", "claim_shares", "claim_table", "medians", "real_claims", "real_table", "shares_text", "verdict",

@@ -61,7 +61,8 @@ def route_errors(frames: Any) -> tuple[pd.DataFrame, dict[str, NoveltyFilter]]:
     -------
     errors : pandas.DataFrame
         Index ``route``: updates, eigenimages kept, the batch's non-zero eigenvalues, the
-        largest relative eigenvalue error, the largest principal angle and the
+        largest relative eigenvalue error, the largest principal angle between the leading
+        ``m`` eigenimages of both, over ``m < k`` (the full span is the frames' span for both), and the
         orthonormality error of the eigenimages.
     filters : dict
         Route -> the fitted :class:`~projtrack.novelty.NoveltyFilter`.
@@ -75,7 +76,10 @@ def route_errors(frames: Any) -> tuple[pd.DataFrame, dict[str, NoveltyFilter]]:
         route_err[method] = {
             "updates": f.n_updates_, "eigenimages kept": f.rank_, "batch non-zero eigenvalues": k,
             "max rel. eigenvalue error": float(np.max(np.abs(f.eigenvalues_[:k] - batch.eigenvalues) / batch.eigenvalues)),
-            "largest principal angle (rad)": float(np.max(subspace_angles(f.components_[:k].T, batch.eigenimages.reshape(k, -1).T))),
+            # the leading-m subspaces for m < k: the full span (m = k) is the frames' span for both, equal by construction
+            "largest principal angle (rad)": float(max(
+                np.max(subspace_angles(f.components_[:m].T, batch.eigenimages.reshape(k, -1)[:m].T))
+                for m in range(1, max(k, 2)))),
             "orthonormality error": float(np.max(np.abs(f.components_ @ f.components_.T - np.eye(f.rank_))))}
         filters[method] = f
     return pd.DataFrame.from_dict(route_err, orient="index").rename_axis("route"), filters
