@@ -475,3 +475,13 @@ def test_route_angles_compare_leading_subspaces_not_the_full_span():
     frames = rng.random((4, 5, 5))
     errs, filters = ex.route_errors(frames)
     assert (errs["largest principal angle (rad)"] < 1e-8).all()
+
+
+def test_centred_eigenvalues_are_those_of_c():
+    rng = np.random.default_rng(6)
+    x = rng.random((5, 3, 4)) + 2.0
+    lam = ex.centred_eigenvalues(x)
+    xc = x.reshape(5, -1) - x.reshape(5, -1).mean(axis=0)
+    big = np.linalg.eigvalsh(xc.T @ xc / 5)[::-1][:5]
+    assert lam == pytest.approx(big, abs=1e-12) and lam[-1] == pytest.approx(0.0, abs=1e-12)   # rank I - 1
+    assert ex.info_rank(lam, 0.999999) == 4 < ex.info_rank(nv.batch_kl(x).eigenvalues, 0.999999) + 1

@@ -12,7 +12,7 @@ Modules:
 """
 from __future__ import annotations
 
-from .aircraft import (classifier_noise_draw, effective_rank, effective_rank_curve, info_rank,
+from .aircraft import (centred_eigenvalues, classifier_noise_draw, effective_rank, effective_rank_curve, info_rank,
                        mean_image_correct, noise_rate_draws, noisy_rates, novelty_table,
                        rank_claim_table, recognized, threshold_sweep as aircraft_threshold_sweep)
 from .plots import plot_block_diagram, plot_fig2_panels, plot_fig3_panels
@@ -54,7 +54,7 @@ __all__ = [
     "max_second_fraction", "rank_margin", "energy_kept_table",
     # aircraft
     "novelty_table", "mean_image_correct", "recognized", "rank_claim_table", "noisy_rates",
-    "noise_rate_draws", "effective_rank", "effective_rank_curve", "info_rank",
+    "noise_rate_draws", "effective_rank", "effective_rank_curve", "info_rank", "centred_eigenvalues",
     "classifier_noise_draw", "aircraft_threshold_sweep",
     # plots
     "plot_block_diagram", "plot_fig2_panels", "plot_fig3_panels",
