@@ -485,3 +485,12 @@ def test_centred_eigenvalues_are_those_of_c():
     big = np.linalg.eigvalsh(xc.T @ xc / 5)[::-1][:5]
     assert lam == pytest.approx(big, abs=1e-12) and lam[-1] == pytest.approx(0.0, abs=1e-12)   # rank I - 1
     assert ex.info_rank(lam, 0.999999) == 4 < ex.info_rank(nv.batch_kl(x).eigenvalues, 0.999999) + 1
+
+
+def test_mean_outside_span_decides_whether_r_has_one_rank_more():
+    rng = np.random.default_rng(8)
+    bg, pat = rng.random(64), rng.random((3, 64))
+    with_bg = np.array([bg + rng.standard_normal(3) @ pat for _ in range(10)])
+    no_bg = np.array([rng.standard_normal(3) @ pat for _ in range(10)])
+    assert ex.mean_outside_span(with_bg) and ex.vip_ranks(with_bg) == (4, 3)
+    assert not ex.mean_outside_span(no_bg) and ex.vip_ranks(no_bg) == (3, 3)

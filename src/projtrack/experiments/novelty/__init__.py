@@ -21,7 +21,7 @@ from .printed import (PRINTED_V1, PRINTED_V2, energy_ratios_needed, frame4_table
                       novelty_from_vip, second_fraction, second_fraction_closed_form)
 from .realvideo import (calibrate_real, contrast_scaled, energy_kept_table, max_second_fraction,
                         median_background, rank_margin, residual_location)
-from .routes import (eq12_forms, near_duplicate_study, route_errors, streaming_comparison, vip_ranks,
+from .routes import (eq12_forms, mean_outside_span, near_duplicate_study, route_errors, streaming_comparison, vip_ranks,
                      vip_vs_large)
 from .street import (CONTRARY_READINGS, FIG2_SETTINGS, FIG3_SETTINGS, NOISE_STD, PIXEL_THRESHOLD,
                      PRINTED_RMS, READINGS, VISIBILITY_THRESHOLDS, calibrate_contrast, calibrate_gain,
@@ -34,7 +34,7 @@ from .summaries import (CLAIMS, claim_shares, claim_table, medians, real_claims,
 __all__ = [
     # routes and equations
     "vip_vs_large", "route_errors", "near_duplicate_study", "streaming_comparison",
-    "eq12_forms", "vip_ranks",
+    "eq12_forms", "vip_ranks", "mean_outside_span",
     # street rules
     "FIG2_SETTINGS", "FIG3_SETTINGS", "PIXEL_THRESHOLD", "ghost_area", "order_2_4", "entry_marked",
     "record_table",
