@@ -389,13 +389,14 @@ def _draw_rows():
         "max kept (Fig. 2)": [1, 1, 1, 2], "max kept (Fig. 3)": [3, 4, 2, 3], "second at 8": [True, True, False, True],
         "ghost 10, Fig. 3": [0.1, 0.5, 0.2, 0.0], "ghost 20, Fig. 3": [0.1, 0.0, 0.2, 0.0],
         "ghost 10, frame 1": [0.5, 0.5, 0.5, 0.1], "ghost 20, frame 1": [0.5, 0.5, 0.5, 0.1],
+        "ghost 10, mean": [0.1, 0.1, 0.3, 0.0], "ghost 20, mean": [0.1, 0.1, 0.1, 0.0],
         "updates (Fig. 3)": [24, 20, 22, 24], "updates (Fig. 2)": [20, 20, 21, 24],
         "background error 10, Fig. 3": [1.0, 2.0, 1.0, 1.0], "background error 10, Fig. 2": [2.0, 1.0, 2.0, 1.0],
         "background error 20, Fig. 3": [1.0, 1.0, 1.0, 1.0], "background error 20, Fig. 2": [2.0, 2.0, 2.0, 1.0],
         "F1 (Fig. 3)": [0.8, 0.7, 0.9, 0.5], "F1 (Fig. 2)": [0.7, 0.8, 0.8, 0.5],
         "memory, person": [2.0, 0.0, 1.0, np.nan], "memory, walkers": [1.0, 1.0, 1.0, 0.0],
         **{f"ghost {j}, {k}, T_f {t}": v for t, (e1, f1) in {12: ([0.1] * 4, [0.5] * 4), 16: ([0.1] * 4, [0.1] * 4)}.items()
-           for j in (10, 20) for k, v in (("Fig. 3", e1), ("frame 1", f1))},
+           for j in (10, 20) for k, v in (("Fig. 3", e1), ("frame 1", f1), ("mean", e1))},
         **{f"memory, {w}, T_f {t}": [0.0] * 4 for t in (12, 16) for w in ("person", "walkers")}})
 
 
@@ -405,6 +406,7 @@ def test_claim_shares_and_tables():
     assert s["one eigenimage throughout"] == 0.75 and s["up to 3, second from 8"] == 0.5
     assert s["first eigenimage clean"] == 0.5            # draw 3 passes but so does its frame 1
     assert s["first eigenimage clean (T_f 12)"] == 1.0 and s["first eigenimage clean (T_f 16)"] == 0.0
+    assert s["mean of the frames clean"] == 0.5           # draw 2 fails at frame 10, draw 3's frame 1 passes too
     assert s["more updates"] == 0.5 and s["cleaner first eigenimage"] == 0.5
     assert s["better novelty data"] == 0.5 and s["person remembered longer"] == 0.25
     t = ex.claim_table({"x": s, "y": s}, ["entry marked"], {"extra": {"x": 1.5}}, readings=["x"])
@@ -441,3 +443,54 @@ def test_effective_rank_curve_and_threshold_sweep(toy_classes):
     sweep = ex.aircraft_threshold_sweep(train, {c: tests[c].reshape(4, 6, 6) for c in tests}, (0.0, 0.5))
     assert list(sweep.columns) == ["T_d", "images used per class", "eigenimages per class", "recognized"]
     assert sweep.loc[0, "images used per class"] == "8 of 8" and sweep.loc[0, "recognized"].endswith("of 12")
+
+
+def test_calibrate_person_hits_the_printed_n8_and_the_readings_carry_it():
+    from projtrack.scenes.sequences import walking_sequence
+    kw = dict(_SMALL, gain=0.5, entry_frame=6)
+    a = ex.calibrate_person(9, np.random.default_rng(4), 0.01, 0.6, **kw)
+    n8 = [nv.process_sequence(walking_sequence(r, n_frames=6, people_contrast=0.6, foreground_contrast=a, **kw).frames,
+                              *ex.FIG2_SETTINGS)[5].novelty for r in np.random.default_rng(4).spawn(9)]
+    assert np.median(n8) == pytest.approx(0.01, rel=3e-2)           # a staircase of rounded 48 x 48 frames
+    with pytest.raises(ValueError, match="no person contrast"):
+        ex.calibrate_person(5, np.random.default_rng(4), 0.9, 0.6, **kw)
+    table = ex.calibrate_readings({"r": dict(background_speed=1.0)}, 3, 3, with_n4=False, with_n8=True)
+    assert list(table.columns) == ["reading", "gain", "contrast (n_2)", "floor", "person (n_8)"]
+
+
+def test_mean_of_the_frames_goes_through_the_ghost_test():
+    frames, bg = _toy_sequence(20, side=24)
+    masks = np.zeros(frames.shape, bool)
+    masks[:, 4:8, :] = True
+    out = ex.sequence_readings(frames, bg, masks, entry=8)
+    paths, area = masks[:10].any(axis=0), float(masks[:10].sum(axis=(1, 2)).mean())
+    assert out["ghost 10, mean"] == ex.ghost_area(frames[:10].astype(float).mean(axis=0), bg, paths, area)
+    d = pd.DataFrame([{"ghost 10, mean": 0.1, "ghost 20, mean": 0.2, "ghost 10, frame 1": 0.9, "ghost 20, frame 1": 0.9},
+                      {"ghost 10, mean": 0.3, "ghost 20, mean": 0.2, "ghost 10, frame 1": 0.9, "ghost 20, frame 1": 0.9}])
+    assert ex.CLAIMS["mean of the frames clean"](d).tolist() == [True, False]
+
+
+def test_route_angles_compare_leading_subspaces_not_the_full_span():
+    rng = np.random.default_rng(3)
+    frames = rng.random((4, 5, 5))
+    errs, filters = ex.route_errors(frames)
+    assert (errs["largest principal angle (rad)"] < 1e-8).all()
+
+
+def test_centred_eigenvalues_are_those_of_c():
+    rng = np.random.default_rng(6)
+    x = rng.random((5, 3, 4)) + 2.0
+    lam = ex.centred_eigenvalues(x)
+    xc = x.reshape(5, -1) - x.reshape(5, -1).mean(axis=0)
+    big = np.linalg.eigvalsh(xc.T @ xc / 5)[::-1][:5]
+    assert lam == pytest.approx(big, abs=1e-12) and lam[-1] == pytest.approx(0.0, abs=1e-12)   # rank I - 1
+    assert ex.info_rank(lam, 0.999999) == 4 < ex.info_rank(nv.batch_kl(x).eigenvalues, 0.999999) + 1
+
+
+def test_mean_outside_span_decides_whether_r_has_one_rank_more():
+    rng = np.random.default_rng(8)
+    bg, pat = rng.random(64), rng.random((3, 64))
+    with_bg = np.array([bg + rng.standard_normal(3) @ pat for _ in range(10)])
+    no_bg = np.array([rng.standard_normal(3) @ pat for _ in range(10)])
+    assert ex.mean_outside_span(with_bg) and ex.vip_ranks(with_bg) == (4, 3)
+    assert not ex.mean_outside_span(no_bg) and ex.vip_ranks(no_bg) == (3, 3)

@@ -22,7 +22,7 @@ from projtrack._validation import as_array, as_int, as_probability, as_real, as_
 from projtrack.novelty import KLBasis, NoveltyClassifier
 
 __all__ = ["novelty_table", "mean_image_correct", "recognized", "rank_claim_table",
-           "noisy_rates", "noise_rate_draws", "effective_rank", "info_rank",
+           "noisy_rates", "noise_rate_draws", "effective_rank", "info_rank", "centred_eigenvalues",
            "classifier_noise_draw"]
 
 
@@ -189,6 +189,19 @@ def info_rank(eigenvalues: Any, information_threshold: float) -> int:
     ti = as_probability(information_threshold, "information_threshold")
     c = np.cumsum(lam) / lam.sum()
     return int(np.searchsorted(c, ti) + 1)
+
+
+def centred_eigenvalues(images: Any) -> np.ndarray:
+    """Eigenvalues (descending) of the VIP matrix of ``images`` with their mean removed: those of ``C``.
+
+    Section 2 states the rank for this matrix; the filter's own VIP matrix keeps the mean
+    (``R``, :attr:`projtrack.novelty.KLBasis.eigenvalues` of :func:`projtrack.novelty.batch_kl`).
+    """
+    x = as_array(images, "images", allow_empty=False)
+    x = x.reshape(len(x), -1).astype(float)
+    xc = x - x.mean(axis=0)
+    lam = np.linalg.eigvalsh(xc @ xc.T / len(x))[::-1]
+    return np.clip(lam, 0.0, None)
 
 
 def classifier_noise_draw(rng: np.random.Generator, classifiers: Sequence[NoveltyClassifier],

@@ -25,7 +25,7 @@ from projtrack.novelty import (METHODS, EigenvalueDroppedWarning, NoveltyFilter,
                                correlation_matrix)
 
 __all__ = ["vip_vs_large", "route_errors", "near_duplicate_study", "streaming_comparison", "eq12_forms",
-           "vip_ranks"]
+           "vip_ranks", "mean_outside_span"]
 
 
 def vip_vs_large(frames: Any) -> pd.DataFrame:
@@ -61,7 +61,8 @@ def route_errors(frames: Any) -> tuple[pd.DataFrame, dict[str, NoveltyFilter]]:
     -------
     errors : pandas.DataFrame
         Index ``route``: updates, eigenimages kept, the batch's non-zero eigenvalues, the
-        largest relative eigenvalue error, the largest principal angle and the
+        largest relative eigenvalue error, the largest principal angle between the leading
+        ``m`` eigenimages of both, over ``m < k`` (the full span is the frames' span for both), and the
         orthonormality error of the eigenimages.
     filters : dict
         Route -> the fitted :class:`~projtrack.novelty.NoveltyFilter`.
@@ -75,7 +76,10 @@ def route_errors(frames: Any) -> tuple[pd.DataFrame, dict[str, NoveltyFilter]]:
         route_err[method] = {
             "updates": f.n_updates_, "eigenimages kept": f.rank_, "batch non-zero eigenvalues": k,
             "max rel. eigenvalue error": float(np.max(np.abs(f.eigenvalues_[:k] - batch.eigenvalues) / batch.eigenvalues)),
-            "largest principal angle (rad)": float(np.max(subspace_angles(f.components_[:k].T, batch.eigenimages.reshape(k, -1).T))),
+            # the leading-m subspaces for m < k: the full span (m = k) is the frames' span for both, equal by construction
+            "largest principal angle (rad)": float(max(
+                np.max(subspace_angles(f.components_[:m].T, batch.eigenimages.reshape(k, -1)[:m].T))
+                for m in range(1, max(k, 2)))),
             "orthonormality error": float(np.max(np.abs(f.components_ @ f.components_.T - np.eye(f.rank_))))}
         filters[method] = f
     return pd.DataFrame.from_dict(route_err, orient="index").rename_axis("route"), filters
@@ -203,6 +207,22 @@ def eq12_forms(frames: Any, test: Any, method: str = "vip") -> dict[str, float]:
             "form 2 vs projection": float(np.abs(form2 - proj).max() / np.abs(proj).max()),
             "form 1 / form 2": float(np.linalg.norm(form1) / np.linalg.norm(form2)),
             "n (Eq. 7)": n7, "|x - x_hat|^2 / |x|^2": float(np.sum((x - form2) ** 2) / (x @ x))}
+
+
+def mean_outside_span(frames: Any, rtol: float = 1e-10) -> bool:
+    """Whether the mean frame lies outside the span of the centred frames (``R`` then has one rank more than ``C``).
+
+    Ranks from the ``I x I`` (and ``(I+1) x (I+1)``) Gram matrices, with an eigenvalue counting
+    when it exceeds ``rtol`` times the largest.
+    """
+    x = as_array(frames, "frames", allow_empty=False)
+    x = x.reshape(len(x), -1).astype(float)
+    rtol = as_real(rtol, "rtol", 0.0, low_open=True)
+    xc = x - x.mean(axis=0)
+    with_mean = np.vstack([xc, x.mean(axis=0)])
+    e_all, e_c = np.linalg.eigvalsh(with_mean @ with_mean.T), np.linalg.eigvalsh(xc @ xc.T)
+    tol = rtol * e_all.max()                       # one threshold for both ranks
+    return int(np.sum(e_all > tol)) > int(np.sum(e_c > tol))
 
 
 def vip_ranks(frames: Any, rtol: float = 1e-10) -> tuple[int, int]:

@@ -37,7 +37,7 @@ from projtrack.scenes.sequences import walking_layers, walking_sequence
 
 __all__ = ["FIG2_SETTINGS", "FIG3_SETTINGS", "PIXEL_THRESHOLD", "ghost_area", "order_2_4", "entry_marked",
            "record_table", "PRINTED_RMS", "NOISE_STD", "READINGS", "CONTRARY_READINGS", "VISIBILITY_THRESHOLDS",
-           "novelty_against_first", "calibrate_gain", "calibrate_contrast", "calibrate_readings",
+           "novelty_against_first", "calibrate_gain", "calibrate_contrast", "calibrate_person", "calibrate_readings",
            "frame2_quiet", "ghost_rms", "memory_updates", "novel_pixel_quality", "sequence_readings",
            "reading_draw", "reading_draws", "threshold_sweep", "ghost_decay"]
 
@@ -229,8 +229,32 @@ def calibrate_contrast(n: int, rng: np.random.Generator, target: float = 0.0018,
     return float(brentq(lambda a: median_novelty(a) - target, lo, hi_b, xtol=1e-3)), floor
 
 
+def calibrate_person(n: int, rng: np.random.Generator, target: float = 0.0058, people_contrast: float = 1.0,
+                     hi: float = 3.0, **scene: Any) -> float:
+    """The entering person's contrast at which the median ``n_8`` under Fig. 2's settings is ``target``.
+
+    ``n_8`` is the novelty of the entry frame against the model the filter holds before it
+    (``T_d = 0.002``, ``T_I = 0.95``), so the walkers' contrast ``people_contrast`` (which
+    decides the updates before the entry) is fixed first.  ``n`` calibration draws (children of
+    ``rng``) are made once, up to the entry frame, with
+    :func:`~projtrack.scenes.sequences.walking_layers`; ``scene`` holds the other keyword
+    arguments of :func:`~projtrack.scenes.sequences.walking_sequence`.
+    """
+    target = as_real(target, "target", 0.0, 1.0)
+    entry = as_int(scene.pop("entry_frame", 8), "entry_frame", minimum=2)
+    layers = [walking_layers(r, n_frames=entry, entry_frame=entry, **scene) for r in _children(rng, n)]
+
+    def median_n8(a: float) -> float:
+        return float(np.median([process_sequence(lay.frames(people_contrast, a), *FIG2_SETTINGS)[entry - 1].novelty
+                                for lay in layers]))
+    f0, f1 = median_n8(0.0) - target, median_n8(hi) - target
+    if f0 >= 0 or f1 <= 0:
+        raise ValueError(f"no person contrast in [0, {hi}] gives the median n_{entry} = {target}")
+    return float(brentq(lambda a: median_n8(a) - target, 0.0, hi, xtol=1e-3))
+
+
 def calibrate_readings(readings: Mapping[str, Mapping[str, Any]], n: int, seed: int,
-                       noise_std: float = NOISE_STD, with_n4: bool = True) -> pd.DataFrame:
+                       noise_std: float = NOISE_STD, with_n4: bool = True, with_n8: bool = False) -> pd.DataFrame:
     """Calibrate every reading: one exposure for all, then the people's contrast on ``n_2`` (and ``n_4``).
 
     Every calibration uses the same ``n`` draws, the children of
@@ -241,7 +265,9 @@ def calibrate_readings(readings: Mapping[str, Mapping[str, Any]], n: int, seed: 
     -------
     pandas.DataFrame
         One row per reading: ``reading``, ``gain``, ``contrast (n_2)``, ``floor`` (median
-        novelty of frame 2 without people) and, with ``with_n4``, ``contrast (n_4)``.
+        novelty of frame 2 without people), with ``with_n4``, ``contrast (n_4)``, and with
+        ``with_n8``, ``person (n_8)``: the entering person's contrast
+        (:func:`calibrate_person`, printed ``n_8 = 0.0058``) with the walkers at ``contrast (n_2)``.
     """
     seed = as_int(seed, "seed", minimum=0)
     gain = calibrate_gain(n, np.random.default_rng(seed), noise_std=noise_std)
@@ -261,8 +287,9 @@ def calibrate_readings(readings: Mapping[str, Mapping[str, Any]], n: int, seed: 
         kw = dict(scene, gain=gain, noise_std=noise_std)
         a2, floor = solve(0.0018, 2, kw)
         a4 = solve(0.0025, 4, kw)[0] if with_n4 else float("nan")
+        a8 = (calibrate_person(n, np.random.default_rng(seed), 0.0058, a2, **kw) if with_n8 else float("nan"))
         rows.append({"reading": name, "gain": gain, "contrast (n_2)": a2, "floor": floor,
-                     **({"contrast (n_4)": a4} if with_n4 else {})})
+                     **({"contrast (n_4)": a4} if with_n4 else {}), **({"person (n_8)": a8} if with_n8 else {})})
     return pd.DataFrame(rows)
 
 
@@ -411,8 +438,10 @@ def sequence_readings(frames: Any, background: Any, masks: Any, entry: int = 8,
         for label, img in (("Fig. 3", r3[j - 1].first_eigenimage), ("Fig. 2", r2[j - 1].first_eigenimage),
                            ("frame 1", f[0])):
             out[f"ghost {j}, {label}"] = ghost_area(img, bg, paths, area, pixel_threshold)
+        mean_j = f[:j].astype(float).mean(axis=0)   # the trivial baseline: the plain mean of frames 1..j
+        out[f"ghost {j}, mean"] = ghost_area(mean_j, bg, paths, area, pixel_threshold)
         for t in VISIBILITY_THRESHOLDS:           # how visible a ghost must be: higher thresholds
-            for label, img in (("Fig. 3", r3[j - 1].first_eigenimage), ("frame 1", f[0])):
+            for label, img in (("Fig. 3", r3[j - 1].first_eigenimage), ("frame 1", f[0]), ("mean", mean_j)):
                 out[f"ghost {j}, {label}, T_f {t:g}"] = ghost_area(img, bg, paths, area, t)
         for label, recs in (("Fig. 3", r3), ("Fig. 2", r2)):
             out[f"background error {j}, {label}"] = ghost_rms(recs[j - 1].first_eigenimage, bg, paths)
