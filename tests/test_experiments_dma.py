@@ -350,6 +350,7 @@ def test_reading_study_rows():
     assert errs["position", "std 0.05", 12.0, 2.0].shape == (2, 10)  # 20 s at 2 s per sample
     assert rows[0]["m per sample"] == 12.0
     assert rows[0]["follows"] == (rows[0]["median error [m]"] < 20 and rows[0]["lost share"] <= 0.1)
+    assert all(r["most follow"] == (r["lost share"] <= 0.5) for r in rows)
     with pytest.raises(ValueError, match="reading"):
         ex.reading_study([("heading", "variance 0.05", 12.0, 1.0)], 2, 20)
     with pytest.raises(ValueError, match="samples"):
@@ -493,3 +494,86 @@ def test_covering_tolerance():
         ex.covering_tolerance([0.1], [0.0], "why")
     with pytest.raises(ValueError, match="values"):
         ex.covering_tolerance([0.1, 0.2], [1.0], "why")
+
+
+def test_bridge_width_study_hides_longer_and_replays_the_page_runs():
+    train = [make_slotcar_video(60, np.random.default_rng(s), bridge_width=7.0) for s in (1, 2)]
+    bg = ex.training_background(train)
+    study = ex.bridge_width_study((7.0, 20.0), {"easy": ({}, 0.5)}, 2, train_seeds=(1, 2), model_seed=3, test_seed=8,
+                                  spreads={"1": 1.0}, n_train=60, n_frames=120)
+    assert set(study) == {(7.0, "easy"), (20.0, "easy")}
+    # the page's own width gives the runs of the page's own study (same seeds, same fits)
+    model, sensor = ex.fit_slotcar(train, np.random.default_rng(3), background=bg)
+    mfree = ex.MapFree(ex.detector_threshold(train, bg), 5, ex.fit_grid_hmm(train, np.random.default_rng(3),
+                                                                               background=bg))
+    direct = ex.tracking_study(model, sensor, bg, 2, np.random.default_rng(8), n_frames=120, map_free=mfree)
+    for a, b in zip(study[7.0, "easy"][0], direct):
+        assert np.allclose(a["viterbi"], b["viterbi"]) and np.allclose(a["grid"], b["grid"])
+        assert "grid 1" in a
+    tables, tol = ex.bridge_width_tables(study)
+    err, passing, walk = tables["errors"], tables["passing"], tables["walk"]
+    assert list(err["bridge [px]"]) == [7.0, 20.0] and len(walk) == 2
+    s7, s20 = err["longest hidden stretch"]
+    assert s20 > s7 >= 1  # a wider deck hides the car for longer
+    for col in ("DMA", "per-frame", "interpolation", "grid HMM"):
+        assert ((passing[col] >= 0) & (passing[col] <= 1)).all()
+    assert set(tol) == {"errors", "passing", "walk"} and tol["passing"]["*"].atol == pytest.approx(0.5)
+    assert tol["errors"]["DMA"].kind == "statistical"
+
+
+def test_bridge_width_tables_counts_videos_below_the_limit(slotcar):
+    _, _, model, _ = slotcar
+    occ = np.array([False, True, True, False])
+    trials = [{"viterbi": np.array([9.0, 1.0, 2.0, 9.0]), "per-frame": np.full(4, 9.0), "detector": np.full(4, 9.0),
+               "grid": np.array([0.0, 4.0, 4.0, 0.0]), "gap": np.array(1), "occluded": occ},
+              {"viterbi": np.array([0.0, 5.0, 5.0, 0.0]), "per-frame": np.full(4, 1.0), "detector": np.full(4, 9.0),
+               "grid": np.array([0.0, 2.0, 2.0, 0.0]), "gap": np.array(1), "occluded": occ}]
+    mfree = ex.MapFree(1.0, 5, type("G", (), {"max_step": 3.0})())
+    tables, _ = ex.bridge_width_tables({(7.0, "easy"): (trials, (model, None), mfree)})
+    row = tables["passing"].iloc[0]
+    assert (row["DMA"], row["per-frame"], row["interpolation"], row["grid HMM"]) == (0.5, 0.5, 0.0, 0.5)
+    err = tables["errors"].iloc[0]
+    assert err["DMA"] == pytest.approx(3.25) and err["longest hidden stretch"] == 2.0
+    with pytest.raises(ValueError):
+        ex.bridge_width_tables({})
+    with pytest.raises(ValueError):
+        ex.bridge_width_tables({(7.0, "easy"): ([{k: v for k, v in trials[0].items() if k != "grid"}], (model, None),
+                                                 mfree)})
+
+
+def test_share_interval_is_clopper_pearson():
+    lo, hi = ex.share_interval(0, 15)
+    assert lo == 0.0 and hi == pytest.approx(1 - 0.025 ** (1 / 15))
+    lo, hi = ex.share_interval(15, 15)
+    assert hi == 1.0 and lo == pytest.approx(0.025 ** (1 / 15))
+    lo, hi = ex.share_interval(11, 100)
+    assert 0.05 < lo < 0.11 < hi < 0.2
+    for bad in ((16, 15), (-1, 15), (1, 0)):
+        with pytest.raises(ValueError):
+            ex.share_interval(*bad)
+
+
+def test_loglog_slopes_per_path_and_pooled():
+    N = np.array([100, 1_000, 10_000, 100_000])
+    E = np.vstack([N ** -0.5, np.full(4, 0.3), 2.0 * N ** -1.0])
+    assert np.allclose(ex.loglog_slopes(N, E, 1_000), [-0.5, 0.0, -1.0])
+    assert np.allclose(ex.loglog_slopes(N, N ** -0.5, 100), [-0.5])
+    with pytest.raises(ValueError):
+        ex.loglog_slopes(N, E, 100_000)  # one size only
+    with pytest.raises(ValueError):
+        ex.loglog_slopes(N, E[:, :3], 100)
+
+
+def test_transition_convergence_per_path_matches_the_table():
+    A = np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]])
+    table, per = ex.transition_convergence(A, (100, 1_000), 4, np.random.default_rng(0), per_path=True)
+    assert per.shape == (4, 2)
+    assert np.allclose(np.sqrt((per ** 2).mean(axis=0)), table["Frobenius error"])
+
+
+def test_f6_verdict_rule_seven_and_first_criterion():
+    row = {"perfect after t = 2": 0.95, "right, t = 1-2": 0.9, "right, t >= 3": 0.99}
+    assert ex.f6_verdict(row) == "qualitative" and ex.f6_verdict(row, first=True) == "within-tolerance"
+    assert ex.f6_verdict({**row, "perfect after t = 2": 0.5}) == "qualitative"
+    assert ex.f6_verdict({**row, "perfect after t = 2": 0.49}) == "differs"
+    assert ex.f6_verdict({**row, "right, t = 1-2": 0.995}) == "differs"  # errors not at the start

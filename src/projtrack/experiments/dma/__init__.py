@@ -5,6 +5,7 @@
 * :mod:`~projtrack.experiments.dma.sphere`: Example 1, the sphere chain, its Monte Carlo and readings, the Kalman baseline.
 * :mod:`~projtrack.experiments.dma.roads`: Example 2, roads and a range radar, its Monte Carlo and readings, the EKF baseline.
 * :mod:`~projtrack.experiments.dma.slotcar`: Example 3, background subtraction, training, the tracking and sensitivity studies, two trackers without the manifold.
+* :mod:`~projtrack.experiments.dma.occlusion`: Example 3 at other bridge widths (how long the car is hidden).
 * :mod:`~projtrack.experiments.dma.plots`: the Example 3 figures (Fig. 9 and the harder condition).
 
 Every Monte Carlo study (:func:`sphere_trials`, :func:`baseline_trials`, :func:`road_trials`,
@@ -23,6 +24,7 @@ from projtrack.experiments.dma.curve import (
     speed_sensitivity,
     stationary,
     transition_convergence,
+    loglog_slopes,
 )
 from projtrack.experiments.dma.decoding import decode_all
 from projtrack.experiments.dma.roads import (
@@ -39,7 +41,9 @@ from projtrack.experiments.dma.roads import (
     no_data_errors,
     reading_study,
     road_trials,
+    share_interval,
 )
+from projtrack.experiments.dma.occlusion import bridge_width_study, bridge_width_tables, hidden_stretch
 from projtrack.experiments.dma.plots import plot_fig9, plot_harder
 from projtrack.experiments.dma.slotcar import (
     GridHMM,
@@ -144,4 +148,9 @@ __all__ = [
     "sample_path",
     "predicted_frobenius",
     "transition_convergence",
+    "bridge_width_study",
+    "bridge_width_tables",
+    "hidden_stretch",
+    "share_interval",
+    "loglog_slopes",
 ]

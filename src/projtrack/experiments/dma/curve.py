@@ -25,7 +25,8 @@ from projtrack.montecarlo import run
 from projtrack.scenes import manifolds as mf
 
 __all__ = ["clockwise_order", "other_moves", "speed_sensitivity", "responsibilities", "eq9_table", "sample_path",
-           "stationary", "predicted_frobenius", "transition_convergence"]
+           "stationary", "predicted_frobenius", "transition_convergence",
+           "loglog_slopes"]
 
 
 def clockwise_order(model: DiscreteManifold) -> tuple[np.ndarray, np.ndarray]:
@@ -238,7 +239,7 @@ def _convergence_trial(rng: np.random.Generator, A: sp.csr_array, sizes: tuple[i
 
 
 def transition_convergence(transitions: object, sizes: tuple[int, ...], n_paths: int, rng: np.random.Generator,
-                           *, alpha: float = 1e-9):
+                           *, alpha: float = 1e-9, per_path: bool = False):
     """The relative-frequency estimate of a known chain against the number of transitions.
 
     ``n_paths`` paths of ``max(sizes)`` transitions from the stationary start (path ``i`` from
@@ -248,7 +249,9 @@ def transition_convergence(transitions: object, sizes: tuple[int, ...], n_paths:
     the truth on the rows visited. Columns: ``transitions N``, ``largest error`` (mean over the
     paths of ``max |a_hat - a|``), ``Frobenius error`` (root mean square over the paths),
     ``predicted`` (:func:`predicted_frobenius`) and ``unvisited states`` (mean over the paths:
-    rows the estimate cannot define; they are left out of the errors).
+    rows the estimate cannot define; they are left out of the errors). With ``per_path=True``
+    also returns the Frobenius error of every path at every size, ``(n_paths, len(sizes))``,
+    for :func:`loglog_slopes`.
     """
     import pandas as pd
 
@@ -258,7 +261,29 @@ def transition_convergence(transitions: object, sizes: tuple[int, ...], n_paths:
         raise ValueError("sizes must not be empty")
     n_paths = as_count(n_paths, "n_paths")
     res = np.array(run(_convergence_trial, n_paths, rng, A, sizes, alpha))  # (paths, sizes, 3)
-    return pd.DataFrame({"transitions N": list(sizes), "largest error": res[:, :, 0].mean(axis=0),
-                         "Frobenius error": np.sqrt((res[:, :, 1] ** 2).mean(axis=0)),
-                         "predicted": [predicted_frobenius(A, n) for n in sizes],
-                         "unvisited states": res[:, :, 2].mean(axis=0)})
+    table = pd.DataFrame({"transitions N": list(sizes), "largest error": res[:, :, 0].mean(axis=0),
+                          "Frobenius error": np.sqrt((res[:, :, 1] ** 2).mean(axis=0)),
+                          "predicted": [predicted_frobenius(A, n) for n in sizes],
+                          "unvisited states": res[:, :, 2].mean(axis=0)})
+    return (table, res[:, :, 1]) if per_path else table
+
+
+def loglog_slopes(sizes: object, errors: object, n_min: int) -> np.ndarray:
+    """The least-squares slope of ``log error`` against ``log N`` over the sizes ``N >= n_min``.
+
+    ``sizes`` is a 1-D sequence of ``N``, ``errors`` has shape ``(len(sizes),)`` (one slope) or
+    ``(n_paths, len(sizes))`` (one slope per path); at least two sizes must reach ``n_min`` and
+    every error used must be > 0 (ValueError otherwise). An error falling as ``N^{-1/2}`` gives
+    -0.5; an estimate that stops using data gives 0.
+    """
+    N = as_array(sizes, "sizes", ndim=1, allow_empty=False)
+    E = np.atleast_2d(np.asarray(errors, dtype=float))
+    if E.shape[1] != len(N):
+        raise ValueError(f"errors must have {len(N)} columns (one per size), got shape {E.shape}")
+    big = N >= n_min
+    if big.sum() < 2:
+        raise ValueError(f"at least two sizes must be >= n_min = {n_min}")
+    if (E[:, big] <= 0).any():
+        raise ValueError("errors must be > 0")
+    slopes = np.polyfit(np.log(N[big]), np.log(E[:, big]).T, 1)[0]
+    return slopes if np.ndim(errors) == 2 else slopes[:1]

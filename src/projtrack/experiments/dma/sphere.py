@@ -467,15 +467,18 @@ def rate_spread(right: object, *, batch: int = 100, first: int = 2) -> dict[str,
             "batch min": float(b.min()), "batch max": float(b.max())}
 
 
-def f6_verdict(row: object) -> str:
+def f6_verdict(row: object, *, first: bool = False) -> str:
     """The Fig. 6 criterion on one reading of :func:`accuracy_summary` (a dict or a table row).
 
-    ``within-tolerance`` if at least 90% of the runs are perfect after ``t = 2``;
-    ``qualitative`` if at least 50% are and the first two instants are right less often than
-    the later ones (errors concentrate at the start, as the paper says); ``differs`` otherwise.
+    Fig. 6 is one shown trajectory, so (CONTRIBUTING rule 7) the behaviour must occur in at
+    least half of the draws: ``qualitative`` if at least 50% of the runs are perfect after
+    ``t = 2`` and the first two instants are right less often than the later ones (errors
+    concentrate at the start, as the paper says), ``differs`` otherwise. The paper prints no
+    number, so ``qualitative`` is the most this figure can get. With ``first=True``, the page's
+    first criterion, which demanded more: ``within-tolerance`` from 90% of the runs on.
     """
     p = float(row["perfect after t = 2"])  # type: ignore[index]
-    if p >= 0.9:
+    if first and p >= 0.9:
         return "within-tolerance"
     if p >= 0.5 and float(row["right, t = 1-2"]) < float(row["right, t >= 3"]):  # type: ignore[index]
         return "qualitative"
