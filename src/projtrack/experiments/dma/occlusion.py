@@ -46,7 +46,7 @@ def bridge_width_study(widths: tuple[float, ...], conditions: dict, n_videos: in
         The seeds of the training runs, of the fits and of the test videos (those of the page,
         so the page's own width gives the page's own runs).
     spreads : dict, optional
-        Label -> random-walk width of extra :class:`~projtrack.experiments.dma.slotcar.GridHMM` variants (:func:`~projtrack.experiments.dma.slotcar.fit_grid_hmm`).
+        Label -> random-walk width of extra :class:`~projtrack.experiments.dma.GridHMM` variants (:func:`~projtrack.experiments.dma.fit_grid_hmm`).
     n_train, n_frames : int
         Frames of each training run and of each test video (the page's 300 and 593).
 
@@ -54,7 +54,7 @@ def bridge_width_study(widths: tuple[float, ...], conditions: dict, n_videos: in
     -------
     dict
         ``(width, condition)`` -> ``(trials, (model, sensor), map_free)``: the trials of
-        :func:`~projtrack.experiments.dma.slotcar.tracking_study` (run with ``map_free``), for :func:`bridge_width_rows`.
+        :func:`~projtrack.experiments.dma.tracking_study` (run with ``map_free``), for :func:`bridge_width_rows`.
     """
     out = {}
     for w in widths:
@@ -98,8 +98,8 @@ def bridge_width_tables(study: dict, limit: float = 3.0, frame_shape: tuple[int,
     tables : dict of str to pandas.DataFrame
         ``"errors"``: per width and condition, ``bridge [px]``, ``condition``,
         ``longest hidden stretch`` (frames, mean over the videos) and the mean error [px] over
-        every hidden frame of ``DMA``, ``interpolation`` (:func:`~projtrack.experiments.dma.slotcar.detect_and_interpolate`) and
-        ``grid HMM`` (:class:`~projtrack.experiments.dma.slotcar.GridHMM`). ``"passing"``: the same keys and, for these and the
+        every hidden frame of ``DMA``, ``interpolation`` (:func:`~projtrack.experiments.dma.detect_and_interpolate`) and
+        ``grid HMM`` (:class:`~projtrack.experiments.dma.GridHMM`). ``"passing"``: the same keys and, for these and the
         ``per-frame`` detector, the share of the videos whose own hidden-frame mean is below
         ``limit`` (the book's reading of a single shown run: a share of the draws).
         ``"walk"``: for the grid variants of the trials (``grid <label>``), their mean error
@@ -108,7 +108,7 @@ def bridge_width_tables(study: dict, limit: float = 3.0, frame_shape: tuple[int,
         The column tolerances of each table. Errors: a mean over at least the smallest
         hidden-frame count, three frames off by up to the longest model step for DMA and the
         grid HMMs, ``1 + longest gap`` frames off by up to the frame diagonal for the detector
-        (as in :func:`~projtrack.experiments.dma.slotcar.map_free_table`). Shares: one video flipping. The stretch: a car position
+        (as in :func:`~projtrack.experiments.dma.map_free_table`). Shares: one video flipping. The stretch: a car position
         rounded on a pixel edge moves one video's stretch by one frame.
     """
     import pandas as pd

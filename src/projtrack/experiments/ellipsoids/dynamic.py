@@ -374,7 +374,7 @@ def settling_study(drive_raw: object, target: float, n_draws: int, rng: np.rando
         last share for the unconstrained estimate; the shares of draws where the PSD-constrained
         estimate settles strictly earlier than, and is more accurate at step 7 than, the
         one-frame guess ``X_0 = y_0 I`` of the same draw
-        (:func:`projtrack.experiments.ellipsoids.baselines.one_frame_guess`).
+        (:func:`projtrack.experiments.ellipsoids.one_frame_guess`).
     """
     drive_raw = as_array(drive_raw, "drive_raw", ndim=3)
     target = as_real(target, "target")

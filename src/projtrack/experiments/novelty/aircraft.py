@@ -195,7 +195,7 @@ def centred_eigenvalues(images: Any) -> np.ndarray:
     """Eigenvalues (descending) of the VIP matrix of ``images`` with their mean removed: those of ``C``.
 
     Section 2 states the rank for this matrix; the filter's own VIP matrix keeps the mean
-    (``R``, :attr:`projtrack.novelty.KLBasis.eigenvalues` of :func:`projtrack.novelty.batch_kl`).
+    (``R``, the ``eigenvalues`` of the :class:`projtrack.novelty.KLBasis` of :func:`projtrack.novelty.batch_kl`).
     """
     x = as_array(images, "images", allow_empty=False)
     x = x.reshape(len(x), -1).astype(float)
