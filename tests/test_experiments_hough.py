@@ -210,8 +210,9 @@ def test_match_peaks_and_optics_trial():
     assert ex.match_peaks(pk, pk) == len(pk) and ex.match_peaks(pk, []) == 0
     o = mc_run(ex.optics_trial, 1, np.random.default_rng(4))[0]
     assert set(o) == {key for key, _ in ex.OPT_PLANES}
-    for ok, k, n, mass in o.values():
-        assert 0 <= k <= n and ok == (mass and k == n)
+    for ok, k, n, mass, r in o.values():
+        assert 0 <= k <= n and ok == (mass and k == n) and -1.0 <= r <= 1.0
+    assert o[1][4] > 0.5  # the simulated optics follow point voting cell by cell
     assert o[1][3] and o["shift"][3]  # rotation and shifted bins keep the total votes
 
 
