@@ -210,8 +210,9 @@ def test_match_peaks_and_optics_trial():
     assert ex.match_peaks(pk, pk) == len(pk) and ex.match_peaks(pk, []) == 0
     o = mc_run(ex.optics_trial, 1, np.random.default_rng(4))[0]
     assert set(o) == {key for key, _ in ex.OPT_PLANES}
-    for ok, k, n, mass in o.values():
-        assert 0 <= k <= n and ok == (mass and k == n)
+    for ok, k, n, mass, r in o.values():
+        assert 0 <= k <= n and ok == (mass and k == n) and -1.0 <= r <= 1.0
+    assert o[1][4] > 0.5  # the simulated optics follow point voting cell by cell
     assert o[1][3] and o["shift"][3]  # rotation and shifted bins keep the total votes
 
 
@@ -412,6 +413,11 @@ def test_baseline_within_and_closest_margin():
     assert ex.baseline_within([1.0], [2.0], total_time=4.0, jitter_sigma=2.0) == 1
     with pytest.raises(ValueError, match="speeds"):
         ex.baseline_within([0.0], [0.25])
+    # the data-free guess at the centre of a 128-px start square: error std 128 / sqrt(12) = 36.95 px
+    assert ex.baseline_within([5.0, 30.0], [0.25, 0.025], region=128.0) == 0
+    assert ex.baseline_within([1.0], [2.0], total_time=4.0, jitter_sigma=40.0, region=128.0) == 1
+    with pytest.raises(ValueError, match="region"):
+        ex.baseline_within([5.0], [0.25], region=0.0)
     raw, table = _synthetic_sweep()
     s_all = np.array([1.0, -1.0, 1.0, -1.0]).std(ddof=1)
     s_full = np.array([1.0, -1.0, -1.0]).std(ddof=1)
@@ -436,3 +442,51 @@ def test_rule_summary_means_and_shares():
         ex.rule_summary([(res[:1], ("r",))])
     with pytest.raises(TypeError, match="rules"):
         ex.rule_summary([(res, "r")])
+
+
+def test_rate_ci_exact_interval():
+    lo, hi = ex.rate_ci(45, 49)
+    assert lo == pytest.approx(0.80399, abs=1e-4) and hi == pytest.approx(0.97731, abs=1e-4)
+    assert ex.rate_ci(0, 10)[0] == 0.0 and ex.rate_ci(10, 10)[1] == 1.0
+    lo, hi = ex.rate_ci(5, 10)
+    assert lo < 0.5 < hi and lo == pytest.approx(1 - hi)  # symmetric at k = n / 2
+    with pytest.raises(ValueError, match="at most n"):
+        ex.rate_ci(11, 10)
+
+
+def test_tradeoff_tables_matches_the_false_line_rate():
+    def trial(p6, p8, t6):
+        return {"counts": {("plain", 6.0): p6, ("plain", 8.0): p8, ("thresholded", 6.0): t6},
+                "targets": [{"ratio plain": 3.0, "ratio thresholded": 2.0, "others plain": 4.0, "others thresholded": 1.0}]}
+    # plain at 6 has more false lines than thresholded, plain at 8 fewer: 8 is the matched floor
+    trials = [trial((2, 6, 1), (2, 1, 0), (1, 3, 1)), trial((3, 4, 1), (3, 1, 0), (2, 3, 0))]
+    curve, matched, mech = ex.tradeoff_tables(trials)
+    assert list(curve["floor"]) == [6, 8, 6]
+    row = matched.iloc[0]
+    assert row["plain floor"] == 8 and row["found, plain"] == pytest.approx(0.5)
+    assert row["found, thresholded"] == pytest.approx(0.3) and row["found change"] == pytest.approx(-1.0)
+    assert row["2 SE"] == pytest.approx(0.0)
+    assert mech.set_index("HT").loc["thresholded", "ratio lower than plain"] == 1.0
+    with pytest.raises(ValueError, match="at least 2"):
+        ex.tradeoff_tables(trials[:1])
+
+
+def test_floor_tradeoff_same_scene_as_rule_counts():
+    a = ex.floor_tradeoff(np.random.default_rng(7), (6,), (6,))
+    b = ex.rule_counts(np.random.default_rng(7), {"f6": dict(min_votes=6)})
+    assert a["counts"][("plain", 6.0)] == b["f6"]["plain"]
+    assert a["counts"][("thresholded", 6.0)] == b["f6"]["thresholded"]
+    for t in a["targets"]:
+        assert t["others thresholded"] <= t["others plain"] + 1e-9
+    with pytest.raises(ValueError, match="empty"):
+        ex.floor_tradeoff(np.random.default_rng(7), (), (6,))
+
+
+def test_clutter_summary_counts_kept_targets():
+    trials = [{"together": (True, False), "alone": (True, False)}, {"together": (False, False), "alone": (True, False)},
+              {"together": (True, False), "alone": (False, False)}, {"together": (False, False), "alone": (False, False)}]
+    r = ex.clutter_summary(3, trials)
+    assert r["found alone"] == 0.5 and r["found with"] == 0.5 and r["kept"] == 0.5 and r["gained"] == 0.25
+    assert r["kept low"] < 0.5 < r["kept high"] and r["change"] == 0.0
+    with pytest.raises(ValueError, match="at least 2"):
+        ex.clutter_summary(3, trials[:1])

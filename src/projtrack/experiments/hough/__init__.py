@@ -27,12 +27,13 @@ from projtrack.experiments.hough.optical import (EQ4_READINGS, OPT_PLANES, SKIMA
                                                  eq4_strip_counts, exact_hough, geometry_trial, match_peaks,
                                                  optics_trial, peer_trial, plateau_trial, plateau_width,
                                                  skimage_cells, skimage_trial, stage_costs)
-from projtrack.experiments.hough.salvo import (PAIR_KINDS, SALVO_TIMES, pair_scene, pair_summary, pair_trial,
-                                               reading_trial, salvo_scene, salvo_trial, speeds_by_target)
-from projtrack.experiments.hough.scoring import evaluate_initiation, fraction_needed, match_lines, mean_field_ratio
-from projtrack.experiments.hough.thresholded import (bound_tables, noise_plane, noisy_scene, perfect_line_trial,
-                                                     plain_and_thresholded, reading_counts, rule_counts,
-                                                     rule_summary, target_peaks)
+from projtrack.experiments.hough.salvo import (PAIR_KINDS, SALVO_TIMES, clutter_summary, pair_scene, pair_summary,
+                                               pair_trial, reading_trial, salvo_scene, salvo_trial, speeds_by_target)
+from projtrack.experiments.hough.scoring import (evaluate_initiation, fraction_needed, match_lines, mean_field_ratio,
+                                                 rate_ci)
+from projtrack.experiments.hough.thresholded import (bound_tables, floor_tradeoff, noise_plane, noisy_scene,
+                                                     perfect_line_trial, plain_and_thresholded, reading_counts,
+                                                     rule_counts, rule_summary, target_peaks, tradeoff_tables)
 
 __all__ = [
     "match_lines",
@@ -59,6 +60,10 @@ __all__ = [
     "pair_scene",
     "pair_trial",
     "pair_summary",
+    "clutter_summary",
+    "rate_ci",
+    "floor_tradeoff",
+    "tradeoff_tables",
     "mean_field_ratio",
     "fraction_needed",
     "perfect_line_trial",

@@ -255,19 +255,26 @@ def readings_table(raw: dict, table: object, stops: Sequence[tuple[float | None,
 
 
 def baseline_within(speeds: Sequence[float], frame_times: Sequence[float], *, total_time: float = 5.0,
-                    jitter_sigma: float = 0.5) -> int:
+                    jitter_sigma: float = 0.5, region: float | None = None) -> int:
     """The no-data baseline: in how many settings a guess needing no data is within Eq. (8).
 
-    The guess puts the target a quarter of the track length, ``speed * total_time / 4``,
-    off along the track; the count is over every speed and frame time ``T`` (with
+    By default the guess puts the target a quarter of the track length,
+    ``speed * total_time / 4``, off along the track: a constant offset, which has no spread
+    and so would pass a test of the standard deviation alone. With ``region`` the guess is
+    the centre of the square of that side in which the targets start uniformly: its
+    along-track error has the standard deviation ``region / sqrt(12)`` of a uniform
+    position (the two coordinates have the same variance, so any track direction gives
+    it). The count is over every speed and frame time ``T`` (with
     ``N_p = round(total_time / T)`` frames) of settings where that error is at most the
     predicted standard deviation of ``x'``. A useful estimate must do better.
     """
     speeds = [as_real(v, "speeds", 0, low_open=True) for v in speeds]
     frame_times = [as_real(T, "frame_times", 0, low_open=True) for T in frame_times]
     total_time = as_real(total_time, "total_time", 0, low_open=True)
-    return int(sum(v * total_time / 4 <= float(np.sqrt(track_covariance(v, T, int(round(total_time / T)),
-                                                                          jitter_sigma=jitter_sigma)["var_x"]))
+    spread = None if region is None else as_real(region, "region", 0, low_open=True) / np.sqrt(12.0)
+    return int(sum((v * total_time / 4 if spread is None else spread)
+                   <= float(np.sqrt(track_covariance(v, T, int(round(total_time / T)),
+                                                     jitter_sigma=jitter_sigma)["var_x"]))
                    for v in speeds for T in frame_times))
 
 

@@ -92,28 +92,34 @@ def match_peaks(a: Sequence, b: Sequence, tol_r: float = 2.0, tol_t: float = 1.0
     return sum(any(abs(p.rho - q.rho) <= tol_r and abs(p.theta_deg - q.theta_deg) <= tol_t for q in b) for p in a)
 
 
-def optics_trial(rng: np.random.Generator) -> dict[object, tuple[bool, int, int, bool]]:
+def optics_trial(rng: np.random.Generator) -> dict[object, tuple[bool, int, int, bool, float]]:
     """One composite (:func:`composite_image`): each plane of :data:`OPT_PLANES` against point voting.
 
     For every key of :data:`OPT_PLANES` returns ``(peak test met, strong voting peaks
-    recovered, strong voting peaks, total votes within 0.1 %)``; a strong peak has at
-    least 12 votes (floor 6), recovered means within (2 px, 1 deg), and the peak test is
-    met when the mass is within 0.1 % and every strong peak is recovered.
+    recovered, strong voting peaks, total votes within 0.1 %, correlation)``; a strong peak
+    has at least 12 votes (floor 6), recovered means within (2 px, 1 deg), and the peak test
+    is met when the mass is within 0.1 % and every strong peak is recovered; the
+    correlation is Pearson's, cell by cell, between the plane and point voting's (the
+    planes' own rho axes, which differ only for the shifted bins).
     """
     img = composite_image(rng)
     Hv, rh, th = hough_transform_image(img)
     pv = [p for p in detect_peaks(Hv, rh, th, min_votes=6, ratio=3.0, bridge=1.5) if p.votes >= 12]
-    out: dict[object, tuple[bool, int, int, bool]] = {}
+    out: dict[object, tuple[bool, int, int, bool, float]] = {}
+
+    def corr(H: np.ndarray) -> float:
+        return float(np.corrcoef(H.ravel(), Hv.ravel())[0, 1])
+
     for order in (1, 0):
         Hr, _, _ = rotate_integrate_hough(img, order=order)
         m = float(abs(Hr.sum() - Hv.sum()) / Hv.sum())
         k = match_peaks(pv, detect_peaks(Hr, rh, th, min_votes=6, ratio=3.0, bridge=1.5))
-        out[order] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3)
+        out[order] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3, corr(Hr))
     for key, kw in (("shift", {"shift": 1.0}), ("square", {"sub": 4})):
         Hn, rn = exact_hough(img, rh, th, **kw)
         m = float(abs(Hn.sum() - Hv.sum()) / Hv.sum())
         k = match_peaks(pv, detect_peaks(Hn, rn, th, min_votes=6, ratio=3.0, bridge=1.5))
-        out[key] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3)
+        out[key] = (m <= 1e-3 and k == len(pv), k, len(pv), m <= 1e-3, corr(Hn))
     return out
 
 

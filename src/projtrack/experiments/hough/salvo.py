@@ -22,7 +22,7 @@ from projtrack.hough import TrackInitiator, hough_transform, line_through, local
 from projtrack.scenes.boost import BoostTrajectory, Frames, frame_times, in_view_launches, render_frames
 
 __all__ = ["SALVO_TIMES", "salvo_scene", "speeds_by_target", "salvo_trial", "reading_trial", "PAIR_KINDS",
-           "pair_scene", "pair_trial", "pair_summary"]
+           "pair_scene", "pair_trial", "pair_summary", "clutter_summary"]
 
 #: The frame times of one stack: 21 frames, ``T = 0.25`` s (5 s, as in the paper).
 SALVO_TIMES = frame_times(21, 0.25)
@@ -280,3 +280,31 @@ def pair_summary(kind: str, value: float, trials: Sequence[Mapping]) -> dict[str
             "no line": float(np.mean(lines == 0)), "one line": float(np.mean(lines == 1)),
             "two lines": float(np.mean(lines >= 2)),
             "ratio change": float(np.median([t["ratio together"] - t["ratio alone"] for t in trials]))}
+
+
+def clutter_summary(value: int, trials: Sequence[Mapping]) -> dict[str, object]:
+    """One row of the close-clutter dose table from :func:`pair_trial` results of ``"clutter"``.
+
+    ``found alone`` and ``found with``: the shares of draws whose target is found without and
+    with the ``value`` close false pixels (same frames otherwise); ``kept``: the share of
+    the targets found alone that are still found with them, and ``kept low``, ``kept high``
+    its 95 % Clopper-Pearson interval; ``gained``: the share of draws found only
+    with them; ``change`` (with minus alone) and ``2 SE``, twice the standard error of that
+    paired difference over the draws.
+    """
+    from projtrack.experiments.hough.scoring import rate_ci
+
+    if len(trials) < 2:
+        raise ValueError(f"trials must hold at least 2 results of pair_trial, got {len(trials)}")
+    tog = np.array([t["together"][0] for t in trials], dtype=bool)
+    alo = np.array([t["alone"][0] for t in trials], dtype=bool)
+    n_alone = int(alo.sum())
+    kept = int((tog & alo).sum())
+    d = tog.astype(float) - alo.astype(float)
+    return {"close false pixels": as_int(value, "value", minimum=0), "draws": len(trials),
+            "found alone": float(alo.mean()), "found with": float(tog.mean()),
+            "kept": kept / n_alone if n_alone else float("nan"),
+            "kept low": rate_ci(kept, n_alone)[0] if n_alone else float("nan"),
+            "kept high": rate_ci(kept, n_alone)[1] if n_alone else float("nan"),
+            "gained": float((tog & ~alo).mean()), "change": float(d.mean()),
+            "2 SE": float(2 * d.std(ddof=1) / np.sqrt(d.size))}

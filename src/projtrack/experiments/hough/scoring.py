@@ -18,7 +18,7 @@ from projtrack._validation import as_int, as_probability, as_real, as_shape2
 from projtrack.hough import TrackInitiator
 from projtrack.hough._checks import _check_points, _origin_xy
 
-__all__ = ["match_lines", "evaluate_initiation", "mean_field_ratio", "fraction_needed"]
+__all__ = ["match_lines", "evaluate_initiation", "mean_field_ratio", "fraction_needed", "rate_ci"]
 
 
 def match_lines(lines: Sequence[tuple[float, float]], points: object, labels: object,
@@ -154,3 +154,21 @@ def fraction_needed(n_votes: float, bias: float, ratio: float = 3.0, *, size: in
     r = as_real(ratio, "ratio", 0, low_open=True)
     size = as_int(size, "size", minimum=1)
     return r / size + (r - 1.0) * b / n
+
+
+def rate_ci(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """Clopper-Pearson (exact binomial) interval of the rate ``k / n`` at ``level``.
+
+    >>> tuple(round(v, 3) for v in rate_ci(45, 49))
+    (0.804, 0.977)
+    """
+    from scipy.stats import beta
+
+    n = as_int(n, "n", minimum=1)
+    k = as_int(k, "k", minimum=0)
+    if k > n:
+        raise ValueError(f"k must be at most n, got k={k}, n={n}")
+    a = (1.0 - as_probability(level, "level")) / 2.0
+    lo = 0.0 if k == 0 else float(beta.ppf(a, k, n - k + 1))
+    hi = 1.0 if k == n else float(beta.ppf(1.0 - a, k + 1, n - k))
+    return lo, hi

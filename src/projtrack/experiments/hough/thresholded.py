@@ -26,7 +26,7 @@ from projtrack.hough import TrackInitiator, hough_transform, local_average
 from projtrack.scenes.boost import BoostTrajectory, Frames, in_view_launches, render_frames
 
 __all__ = ["noisy_scene", "plain_and_thresholded", "noise_plane", "perfect_line_trial", "target_peaks", "reading_counts",
-           "rule_counts", "rule_summary", "bound_tables"]
+           "rule_counts", "rule_summary", "bound_tables", "floor_tradeoff", "tradeoff_tables"]
 
 
 def noisy_scene(rng: np.random.Generator, n_noise: int = 20, n_targets: int = 5, *, jitter_sigma: float = 0.5,
@@ -315,3 +315,102 @@ def bound_tables(perfect: Sequence[Mapping], targets: Sequence[Mapping], n_votes
              "targets holding enough": share(n_t), "found, holding enough": share(k),
              "found, not holding enough": share(k)}
     return mf, votes, (tol_mf, tol_v)
+
+
+def floor_tradeoff(rng: np.random.Generator, plain_floors: Sequence[float], thresholded_floors: Sequence[float],
+                   **scene_kw: object) -> dict[str, object]:
+    """One :func:`noisy_scene` (``scene_kw``) under the plain HT at several vote floors and the thresholded HT at others.
+
+    The baseline the thresholded HT must beat: raising the plain HT's vote floor also cuts
+    false lines. Both use the paper's peak rule (ratio 3, bridging at 1.5). Returns
+    ``counts``: ``{("plain" | "thresholded", floor): (targets found, false lines, false
+    tracks confirmed)}``, and ``targets``: for every target with at least two detections,
+    at its own best cell (the argmax of the HT of its detections alone) the ratio of the
+    exact to the 5 x 5 averaged plane and the other detections' votes in that cell, under
+    the plain (``ratio plain``, ``others plain``) and the thresholded HT (``ratio
+    thresholded``, ``others thresholded``). Clipping each frame's HT at one vote removes
+    the false pixels' votes that share the target's cell in a frame with it.
+    """
+    from projtrack.hough import thresholded_hough_transform
+
+    plain_floors = [as_real(f, "plain_floors", 0) for f in plain_floors]
+    thresholded_floors = [as_real(f, "thresholded_floors", 0) for f in thresholded_floors]
+    if not plain_floors or not thresholded_floors:
+        raise ValueError("plain_floors and thresholded_floors must not be empty")
+    tr, fr = noisy_scene(rng, **scene_kw)  # type: ignore[arg-type]
+    counts = {}
+    for name, floors in (("plain", plain_floors), ("thresholded", thresholded_floors)):
+        for f in floors:
+            init = TrackInitiator(thresholded=name == "thresholded", ratio=3.0, bridge=1.5, dx_max=16, min_votes=f)
+            r = evaluate_initiation(init, fr, tr)
+            counts[(name, f)] = (r["n_found"], r["n_false_lines"], r["n_false_confirmed"])
+    comp, lab = fr.composite(), np.concatenate(fr.labels)
+    Hp, rh, th = hough_transform(comp, fr.shape)
+    Ht = thresholded_hough_transform(list(fr.points), fr.shape)[0]
+    Ap, At = (local_average(H, 5, rhos=rh, thetas_deg=th) for H in (Hp, Ht))
+    targets = []
+    for k in range(len(tr)):
+        own = comp[lab == k]
+        if len(own) < 2:
+            continue
+        Hk = hough_transform(own, fr.shape)[0]
+        c = np.unravel_index(int(np.argmax(Hk)), Hk.shape)
+        targets.append({"ratio plain": float(Hp[c] / Ap[c]), "ratio thresholded": float(Ht[c] / At[c]),
+                        "others plain": float(Hp[c] - Hk[c]), "others thresholded": float(Ht[c] - min(Hk[c], Ht[c]))})
+    return {"counts": counts, "targets": targets}
+
+
+def tradeoff_tables(trials: Sequence[Mapping], n_targets: int = 5):
+    """The thresholded HT against the plain HT at a matched false-line rate, from :func:`floor_tradeoff` trials.
+
+    Returns
+    -------
+    curve : pandas.DataFrame
+        One row per HT and vote floor: ``targets found`` (share of the ``n_targets`` of
+        every scene), ``false lines`` and ``false confirmed`` (means per scene).
+    matched : pandas.DataFrame
+        One row per floor of the thresholded HT: ``plain floor``, the lowest plain floor
+        whose false lines per scene are no more than the thresholded HT's (the highest
+        floor when none is that low; ``false lines, plain`` then shows it), both found shares and false-line means, and
+        ``found change`` (thresholded minus plain, targets per scene, paired over the same
+        scenes) with ``2 SE``.
+    mechanism : pandas.DataFrame
+        Over all targets: the median ratio at the target's own cell and the mean of the other
+        votes in that cell, plain and thresholded, and the share of targets whose ratio is
+        lower thresholded.
+    """
+    import pandas as pd
+
+    n_targets = as_int(n_targets, "n_targets", minimum=1)
+    if len(trials) < 2:
+        raise ValueError(f"trials must hold at least 2 results of floor_tradeoff, got {len(trials)}")
+    keys = list(trials[0]["counts"])
+    a = {k: np.array([t["counts"][k] for t in trials], dtype=float) for k in keys}
+    def _n(f: float) -> float | int:
+        return int(f) if float(f).is_integer() else f
+
+    curve = pd.DataFrame([{"HT": ht, "floor": _n(f), "targets found": float(v[:, 0].mean() / n_targets),
+                           "false lines": float(v[:, 1].mean()), "false confirmed": float(v[:, 2].mean())}
+                          for (ht, f), v in a.items()])
+    plain = sorted(f for ht, f in keys if ht == "plain")
+    rows = []
+    for ht, f in keys:
+        if ht != "thresholded":
+            continue
+        t = a[(ht, f)]
+        ok = [p for p in plain if a[("plain", p)][:, 1].mean() <= t[:, 1].mean()]
+        p = ok[0] if ok else plain[-1]
+        d = t[:, 0] - a[("plain", p)][:, 0]
+        rows.append({"thresholded floor": _n(f), "plain floor": _n(p),
+                     "found, thresholded": float(t[:, 0].mean() / n_targets),
+                     "found, plain": float(a[("plain", p)][:, 0].mean() / n_targets),
+                     "false lines, thresholded": float(t[:, 1].mean()),
+                     "false lines, plain": float(a[("plain", p)][:, 1].mean()),
+                     "found change": float(d.mean()), "2 SE": float(2 * d.std(ddof=1) / np.sqrt(d.size))})
+    matched = pd.DataFrame(rows)
+    T = pd.DataFrame([r for t in trials for r in t["targets"]])
+    mechanism = pd.DataFrame([{"HT": ht, "ratio at own cell (median)": float(T[f"ratio {ht}"].median()),
+                               "other votes in own cell (mean)": float(T[f"others {ht}"].mean()),
+                               "ratio lower than plain": float((T[f"ratio {ht}"] < T["ratio plain"]).mean())}
+                              for ht in ("plain", "thresholded")])
+    return curve, matched, mechanism
