@@ -91,7 +91,7 @@ class _Rec:
 def items_html(items, prefix: str) -> str:
     """One chapter's inventory ids as an HTML table: id (linked to its page), what it is, the
     paper's value, ours (from the id's headline row) and the id's verdict badge, with the
-    verdicts of its sub-rows beside it.
+    verdicts of its sub-rows beside it; folded under a line that counts the verdicts.
 
     Parameters
     ----------
@@ -118,4 +118,11 @@ def items_html(items, prefix: str) -> str:
         body.append("<tr>" + "".join(f"<td {_CELL}>{v}</td>" for v in (
             f"<code>{ident}</code>", html.escape(r.item), html.escape(r.paper), html.escape(r.ours), verdict))
                     + "</tr>")
-    return f'<table class="pt-items" {_TABLE_STYLE}><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+    table = f'<table class="pt-items" {_TABLE_STYLE}><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+    counts: dict[str, int] = {}
+    for v in group["verdict"].fillna(""):
+        counts[v or "not yet covered"] = counts.get(v or "not yet covered", 0) + 1
+    tally = ", ".join(f"{n} {v}" for v, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])))
+    return ('<details class="pt-items-fold"><summary style="cursor:pointer">'
+            f"<strong>{len(group)} items</strong>: {html.escape(tally)} (open for each item's values)"
+            f"</summary>{table}</details>")

@@ -55,7 +55,7 @@ from projtrack.inventory import inventory_ids
 from projtrack.tolerance import EXACT, Manifest, Tolerance, read_manifest, write_manifest
 
 __all__ = ["VERDICTS", "REPRODUCTION_VERDICTS", "RANK", "NOTE_REQUIRED", "COLUMNS", "COLOURS", "Row", "Scorecard",
-           "read_scorecards", "id_verdict", "headline_row", "summary", "badge", "Glance", "scorecard_html"]
+           "read_scorecards", "id_verdict", "headline_row", "summary", "badge", "Glance", "scorecard_html", "fold_scorecard"]
 
 #: The verdicts that judge a claim of the paper, from strongest to weakest.
 REPRODUCTION_VERDICTS: tuple[str, ...] = (
@@ -213,7 +213,7 @@ class Scorecard:
         return pd.DataFrame([astuple(r) for r in self.rows], columns=list(COLUMNS))
 
     def _repr_html_(self) -> str:
-        return _compared(scorecard_html(self.rows), self.part)
+        return _compared(fold_scorecard(scorecard_html(self.rows)), self.part)
 
     def __repr__(self) -> str:
         lines = [f"Scorecard({self.part!r}, {self.notebook!r}): {len(self.rows)} rows"]
@@ -437,6 +437,20 @@ def _compared(table_html: str, part: str) -> str:
     (``tests/nbval_sanitize.cfg`` then hides it from nbval's text comparison)."""
     return (f'<div class="pt-compared" data-file="figures/{part}/scorecard.csv">{table_html}</div>'
             "<!--/pt-compared-->")
+
+
+_ROW_START = f"<tr><td {_CELL}><code>"
+
+
+def fold_scorecard(table_html: str) -> str:
+    """Fold a scorecard table (:func:`scorecard_html`) under a one-line summary: the page's
+    result at a glance already shows each claim's values and verdict at the top, so the full
+    table with its notes opens on demand. Already folded HTML is returned unchanged."""
+    if table_html.startswith('<details class="pt-scorecard-fold">'):
+        return table_html
+    n = table_html.count(_ROW_START)
+    return ('<details class="pt-scorecard-fold"><summary style="cursor:pointer;font-weight:600">'
+            f"The scorecard: all {n} rows of this page, with their notes</summary>{table_html}</details>")
 
 
 def scorecard_html(rows: list[Row]) -> str:
