@@ -359,6 +359,8 @@ def test_shaping_family_misses_reflections_but_not_their_effect():
     tab, dev = XP.shaping_family_study(200, np.random.default_rng(22))
     assert dev["n_pos"] + dev["n_neg"] == 200 and 0 < dev["n_neg"] < 200
     assert dev["rebuild"] < 1e-12 and dev["mirror"] < 1e-12 and dev["transpose"] < 1e-12
+    assert dev["orthogonal"] < 1e-12  # with orthogonal factors every draw, reflections included, is rebuilt
+    assert dev["limits"][0] > dev["limits"][1] > dev["limits"][2] > 0 and dev["limits"][2] < 1e-5
     assert tab["share of the draws"].sum() == pytest.approx(1.0)
     # every member of eq. (22) has det = tau^2 >= 0, so a reflection is out of reach
     rng = np.random.default_rng(0)

@@ -513,16 +513,22 @@ def shaping_family_study(n_draws: int, rng: np.random.Generator) -> tuple[pd.Dat
         ``table``: one row per class of maps (share of the draws, whether the map itself and its
         effect on an ellipse are reached); ``checks``: the largest deviations ``rebuild``
         (``|L - L(phi, alpha, tau, psi)|``, det > 0), ``mirror`` (``|(LS) X (LS)^T - L X L^T|`` with
-        ``LS`` rebuilt from its parameters, det < 0), ``transpose`` (``|A^T X A - L X L^T|``) and the
-        counts ``n_pos``, ``n_neg``.
+        ``LS`` rebuilt from its parameters, det < 0), ``transpose`` (``|A^T X A - L X L^T|``),
+        ``orthogonal`` (``|L - U diag(alpha, 1/alpha) tau V^T|`` for every draw, the paper's n-D reading
+        with ``U``, ``V`` orthogonal, reflections allowed), ``limits`` (the distance from a rank-one map
+        to the member with its small singular value set to ``1e-2, 1e-4, 1e-6``) and the counts
+        ``n_pos``, ``n_neg``.
     """
     n_draws = as_int(n_draws, "n_draws", minimum=1)
     rng = as_rng(rng)
-    dev = {"rebuild": 0.0, "mirror": 0.0, "transpose": 0.0}
+    dev = {"rebuild": 0.0, "mirror": 0.0, "transpose": 0.0, "orthogonal": 0.0}
     n_pos = 0
     for _ in range(n_draws):
         L = rng.normal(size=(2, 2))
         X = S.random_ellipsoid(2, rng)
+        U, sv, Vt = np.linalg.svd(L)  # n-D reading: the rotations become orthogonal matrices
+        Lo = U @ np.diag([np.sqrt(sv[0] / sv[1]), np.sqrt(sv[1] / sv[0])]) @ (np.sqrt(sv[0] * sv[1]) * Vt)
+        dev["orthogonal"] = max(dev["orthogonal"], float(np.abs(Lo - L).max()))
         if np.linalg.det(L) > 0:
             n_pos += 1
             par = _family_parameters(L)
@@ -536,12 +542,18 @@ def shaping_family_study(n_draws: int, rng: np.random.Generator) -> tuple[pd.Dat
         A = E.shaping_matrix(par[2], par[1], par[3], par[0])  # eq. (23): (tau, alpha, psi, phi)
         Lr = _family(*par)
         dev["transpose"] = max(dev["transpose"], float(np.abs(A.T @ X @ A - Lr @ X @ Lr.T).max()))
+    # a rank-one map u v^T is the limit of the members U diag(1, eps) V^T (det > 0 after a sign flip)
+    u, v = S.rotation(0.3), S.rotation(-1.1)
+    L1 = u @ np.diag([2.0, 0.0]) @ v
+    limits = [float(np.abs(_family(*_family_parameters(u @ np.diag([2.0, eps]) @ v)) - L1).max())
+              for eps in (1e-2, 1e-4, 1e-6)]
     table = pd.DataFrame([
-        {"maps L": "det L > 0", "share of the draws": n_pos / n_draws, "L reached": "yes",
-         "L X L^T reached": "yes"},
+        {"maps L": "det L > 0", "share of the draws": n_pos / n_draws, "L reached, as written": "yes",
+         "L reached, n-D reading": "yes", "L X L^T reached": "yes"},
         {"maps L": "det L < 0 (with a reflection)", "share of the draws": 1 - n_pos / n_draws,
-         "L reached": "no: det = tau^2 >= 0", "L X L^T reached": "yes: L S, S the ellipse's mirror"},
-        {"maps L": "rank one", "share of the draws": 0.0, "L reached": "no: det = tau^2 > 0 or L = 0",
-         "L X L^T reached": "no: a segment"},
+         "L reached, as written": "no: det = tau^2 >= 0", "L reached, n-D reading": "yes: orthogonal U, V",
+         "L X L^T reached": "yes: L S, S the ellipse's mirror"},
+        {"maps L": "rank one", "share of the draws": 0.0, "L reached, as written": "as limits only",
+         "L reached, n-D reading": "as limits only", "L X L^T reached": "as limits only"},
     ])
-    return table, {**dev, "n_pos": n_pos, "n_neg": n_draws - n_pos}
+    return table, {**dev, "limits": limits, "n_pos": n_pos, "n_neg": n_draws - n_pos}
