@@ -876,3 +876,14 @@ def test_operation_counts_by_hand_and_descent_rounds():
         operation_counts(4, n_frames=2)
     r = descent_rounds(4, 0.0, 3, seed=1)
     assert r.shape == (3,) and np.all(r >= 1)
+
+
+def test_optimum_net_ratios_by_hand():
+    from projtrack.experiments.neuralnet import operation_counts, optimum_net_ratios
+    r = optimum_net_ratios(4)
+    c = operation_counts(4)
+    assert r["book"] == pytest.approx(c["exact optimum"] / c["net, one run"])
+    # lowest: frame 1 fixed (24^2 + 2 x 24^3 triples, 4 additions each) over the net with 3 operations per D X X
+    assert r["lowest"] == pytest.approx((24 ** 2 + 2 * 24 ** 3) * 4 / (19 * 16 * (5 * 24 + 3 * 16 * 9)))
+    assert r["highest"] == pytest.approx(3 * 24 ** 3 * 6 / c["net, one run"])
+    assert r["lowest"] < r["book"] < r["highest"]

@@ -21,7 +21,7 @@ Modules (everything public is re-exported here):
 """
 
 from .comparison import (METHODS, accuracy, comparison_cells, comparison_trial, frame_descent, frame_rule_study,
-                         frame_rule_table, nearest_admissible, noise_sweep, operation_counts, descent_rounds, plot_comparison, plot_timing, size_sweep, update_order_study)
+                         frame_rule_table, nearest_admissible, noise_sweep, operation_counts, optimum_net_ratios, descent_rounds, plot_comparison, plot_timing, size_sweep, update_order_study)
 from .criterion import (PAPER_FAILURES, ci_step, fmt_p, k_range, mode_probability, p_row, p_table, rate_ci,
                         stable_down, stable_up, table1_readings, table1_tables, ten_run_replications)
 from .degraded import (OUTCOMES, TOLERATED, DegradedDraw, bound_text, central_differences, connection_check,
@@ -121,5 +121,6 @@ __all__ = [
     "first_sweep_pattern",
     "end_states",
     "operation_counts",
+    "optimum_net_ratios",
     "descent_rounds",
 ]

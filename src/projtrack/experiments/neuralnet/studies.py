@@ -209,8 +209,10 @@ def sensitivity_cells(cells: Sequence[tuple[float, float, str, dict[str, Any], o
     return out
 
 
-def evolution_trial(rng: np.random.Generator, n_runs: int) -> list[dict[str, Any]]:
+def evolution_trial(rng: np.random.Generator, n_runs: int, unit: float = 256.0) -> list[dict[str, Any]]:
     """``n_runs`` noise-free simulations (own data set and start each) with their states recorded.
+
+    ``unit`` is the unit of D in pixels (the book's reading: 256 px).
 
     Returns
     -------
@@ -223,7 +225,7 @@ def evolution_trial(rng: np.random.Generator, n_runs: int) -> list[dict[str, Any
     rng = as_rng(rng)
     n_runs = as_int(n_runs, "n_runs", minimum=1)
     scenes = [make_tracks(rng, 4, 5, noise_percent=0.0) for _ in range(n_runs)]
-    D = distance_tensor(np.stack([s.positions for s in scenes]) / 256)
+    D = distance_tensor(np.stack([s.positions for s in scenes]) / float(unit))
     run = run_net(D, initial_states(rng, n_runs, 4, 4, 5), record=True)
     out = []
     for k, scene in enumerate(scenes):
