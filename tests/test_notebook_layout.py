@@ -25,6 +25,7 @@ import tag_cells  # noqa: E402
     ("x = np.linalg.solve(A, b)\nprint(x)\n", None),                  # analysis stays visible
     ("err = run(trials)\nimport numpy as np\n", None),                # does not start with imports
     ("%matplotlib inline\nimport numpy as np\n", "setup"),            # magics are ignored
+    ("table = study(trials, noise_levels=LEVELS, readings=READINGS, seed=SEED, chunk=25)  # x\n", "wide"),
     ("def broken(:\n", None),
     ("", None),
 ])

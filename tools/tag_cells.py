@@ -19,7 +19,10 @@ A code cell is collapsed when :func:`kind` classifies it as
     longer than :data:`LONG` lines and mostly draws (:data:`DRAWING_SHARE` of its lines):
     the figure is what the reader needs, not its styling;
 ``scorecard``
-    a cell whose statements are mostly calls on the page's scorecard (``card.add(...)``).
+    a cell whose statements are mostly calls on the page's scorecard (``card.add(...)``);
+``wide``
+    a cell with a line longer than :data:`WIDE` characters, which would not fit the
+    book's column as visible code.
 
 Cells already tagged ``remove-input``, ``hide-input`` or ``hide-cell`` are left alone.
 
@@ -50,6 +53,9 @@ LONG = 12
 DRAWING_SHARE = 0.5
 _DRAWING = re.compile(r"\b(ax\w*|fig\w*|plt|figures)\b")
 #: Tags that already hide a cell's input.
+#: The longest code line shown as visible code (longer ones would not fit the column).
+WIDE = 76
+
 HIDING = ("hide-input", "remove-input", "hide-cell", "remove-cell")
 _STYLE_CALLS = ("apply_style", "set_printoptions", "filterwarnings", "simplefilter", "seed", "threadpool_limits")
 #: Calls whose result may be assigned in a set-up cell (a scorecard, a random generator).
@@ -95,7 +101,7 @@ def _is_style_call(node: ast.AST) -> bool:
 
 
 def kind(source: str) -> str | None:
-    """Classify one code cell's source: ``setup``, ``helper``, ``figure``, ``scorecard`` or None.
+    """Classify one code cell's source: ``setup``, ``helper``, ``figure``, ``scorecard``, ``wide`` or None.
 
     Parameters
     ----------
@@ -105,7 +111,8 @@ def kind(source: str) -> str | None:
     Returns
     -------
     str or None
-        The reason to collapse the cell, or ``None`` for an analysis cell that stays visible.
+        The reason to collapse the cell (``setup``, ``helper``, ``figure``, ``scorecard`` or
+        ``wide``), or ``None`` for an analysis cell that stays visible.
     """
     if not isinstance(source, str):
         raise TypeError(f"source must be a str, got {type(source).__name__}")
@@ -133,6 +140,8 @@ def kind(source: str) -> str | None:
     drawing = sum(bool(_DRAWING.search(line)) for line in lines)
     if draws and len(lines) > LONG and drawing >= DRAWING_SHARE * len(lines):
         return "figure"
+    if max(len(line) for line in source.splitlines()) > WIDE:
+        return "wide"
     return None
 
 
