@@ -16,6 +16,19 @@ __all__ = ["optimal_assignment", "nearest_neighbour_assignment", "greedy_assignm
            "coordinate_descent_assignment"]
 
 
+def _frame_cost(D: np.ndarray, A: np.ndarray, f: int) -> np.ndarray:
+    """Cost of every (target, measurement) choice in frame ``f`` with the other frames fixed."""
+    n_t, n_p = A.shape
+    M = np.zeros((n_t, D.shape[1]))
+    if f + 2 < n_p:
+        M += D[f][:, A[:, f + 1], A[:, f + 2]].T
+    if 1 <= f <= n_p - 2:
+        M += D[f - 1][A[:, f - 1], :, A[:, f + 1]]
+    if f >= 2:
+        M += D[f - 2][A[:, f - 2], A[:, f - 1], :]
+    return M
+
+
 def optimal_assignment(D: np.ndarray, n_targets: int | None = None, max_states: int = 20_000_000
                        ) -> tuple[np.ndarray, float]:
     """Exact minimum of the summed equation (7) cost over one-to-one assignments
@@ -170,14 +183,7 @@ def coordinate_descent_assignment(D: np.ndarray, initial: np.ndarray | None = No
     cost = assignment_cost(A, D)
     for _ in range(max_rounds):
         for f in range(n_p):
-            M = np.zeros((n, n))
-            if f + 2 < n_p:
-                M += D[f][:, A[:, f + 1], A[:, f + 2]].T
-            if 1 <= f <= n_p - 2:
-                M += D[f - 1][A[:, f - 1], :, A[:, f + 1]]
-            if f >= 2:
-                M += D[f - 2][A[:, f - 2], A[:, f - 1], :]
-            _, A[:, f] = linear_sum_assignment(M)
+            _, A[:, f] = linear_sum_assignment(_frame_cost(D, A, f))
         new = assignment_cost(A, D)
         if new >= cost - 1e-12:
             cost = min(cost, new)

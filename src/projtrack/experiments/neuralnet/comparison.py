@@ -45,6 +45,7 @@ from projtrack import montecarlo
 from projtrack._validation import as_array, as_int, as_real
 from projtrack.neuralnet import assignment_cost, is_correct_assignment
 from projtrack.neuralnet._checks import _check_D
+from projtrack.neuralnet.references import _frame_cost
 from projtrack.tolerance import EXACT, Tolerance, mean_over, share
 
 from .table1 import draw_simulation, run_draws, score_simulation, simulate
@@ -221,19 +222,6 @@ def nearest_admissible(X0: np.ndarray) -> np.ndarray:
         rows, cols = linear_sum_assignment(X0[:, :, a], maximize=True)
         A[rows, a] = cols
     return A
-
-
-def _frame_cost(D: np.ndarray, A: np.ndarray, f: int) -> np.ndarray:
-    """Cost of every (target, measurement) choice in frame ``f`` with the other frames fixed."""
-    n_t, n_p = A.shape
-    M = np.zeros((n_t, D.shape[1]))
-    if f + 2 < n_p:
-        M += D[f][:, A[:, f + 1], A[:, f + 2]].T
-    if 1 <= f <= n_p - 2:
-        M += D[f - 1][A[:, f - 1], :, A[:, f + 1]]
-    if f >= 2:
-        M += D[f - 2][A[:, f - 2], A[:, f - 1], :]
-    return M
 
 
 def frame_descent(D: np.ndarray, initial: np.ndarray, max_rounds: int = 50) -> tuple[np.ndarray, int, bool]:
