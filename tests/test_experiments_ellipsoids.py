@@ -8,6 +8,7 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 import pytest  # noqa: E402
 
 from projtrack import ellipsoids as E  # noqa: E402
@@ -131,6 +132,7 @@ def test_ls_psd_frequency_small_noise_is_almost_always_psd():
     assert tab["P(LS not PSD)"].iloc[0] < tab["P(LS not PSD)"].iloc[1]
     assert tab["P(LS not PSD)"].iloc[0] < 0.05
     assert (tab["realized SNR 10%"] <= tab["realized SNR median"]).all()
+    assert (tab["P(both)"] <= tab["P(LS not PSD)"]).all() and (tab["P(both within a factor 2)"] <= tab["P(LS not PSD)"]).all()
     with pytest.raises(ValueError, match="n_blocks"):
         XP.ls_psd_frequency([(0.3, 7)], 0, 50)
     with pytest.raises(ValueError, match="levels"):
@@ -337,11 +339,28 @@ def test_model_trial_without_errors_is_the_exact_model(exp):
     assert np.all(dA == 0) and np.all(dB == 0)
     assert errs["exact model"] == errs["A and B errors (Fig. 13)"] == errs["A error only"]
     assert errs["same, noise-free data"] < 1e-9  # exact model, exact data: the truth
+    one = XP.trivial_baselines(exp, w[None])["one frame, X_0 = y_0 I"][0]  # the Fig. 12 baseline, same draw
+    assert errs["one frame X_0 = y_0 I, A and B errors"] == pytest.approx(np.median(one[8:]), rel=1e-12)
     trials = XP.imperfect_model_study(exp, 3, np.random.default_rng(6))
     assert len(trials) == 3 and set(trials[0][0]) >= {"exact model", "rel. error of A", "rel. error of B",
-                                                      "semi-axis error (Fig. 13)", "no data, A and B errors"}
+                                                      "semi-axis error (Fig. 13)", "no data, A and B errors",
+                                                      "no data X_0 = I, A and B errors",
+                                                      "one frame X_0 = y_0 I, A and B errors"}
     with pytest.raises(ValueError, match="sd"):
         XP.model_trial(np.random.default_rng(4), exp, sd=-1.0)
+
+
+def test_fig13_baselines_counts_strict_wins():
+    t = pd.DataFrame({"A and B errors (Fig. 13)": [0.1, 0.3, 0.2], "same, noise-free data": [0.1, 0.1, 0.1],
+                      "no data, A and B errors": [0.2, 0.2, 0.2], "no data X_0 = I, A and B errors": [0.1, 0.3, 0.2],
+                      "one frame X_0 = y_0 I, A and B errors": [0.5, 0.5, 0.05]})
+    tab = XP.fig13_baselines(t, 0.25).set_index("baseline")
+    assert tab.loc["no data, X_0 = 0", "estimate beats it"] == pytest.approx(1 / 3)
+    assert tab.loc["no data, X_0 = I", "estimate beats it"] == 0.0  # exact ties count for neither
+    assert tab.loc["one frame, X_0 = y_0 I", "beats the mean ellipse"] == pytest.approx(1 / 3)
+    assert tab.loc["no data, X_0 = 0", "noise-free data beat it"] == 1.0
+    with pytest.raises(TypeError, match="DataFrame"):
+        XP.fig13_baselines(t.to_dict(), 0.25)
 
 
 def test_constant_baseline_and_model_error_scan(exp):

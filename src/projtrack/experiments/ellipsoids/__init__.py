@@ -10,8 +10,8 @@
 
 from __future__ import annotations
 
-from .baselines import (best_constant_error, fig12_readings, one_frame_guess, threshold_table, trivial_baselines,
-                        versus_baseline)
+from .baselines import (best_constant_error, fig12_readings, fig13_baselines, one_frame_guess, threshold_table,
+                        trivial_baselines, versus_baseline)
 from .beyond import (alg1_sdp_summary, compare_alg1_sdp, condition19_study, condition19_trial, constraint_violation,
                      random_interval_draw, random_interval_problems, silhouette_trial, silhouettes_3d_study)
 from .dynamic import (ESTIMATORS, constant_baseline_error, estimator_table, fig12_noise_study,
@@ -40,4 +40,5 @@ __all__ = [
     "silhouette_trial", "silhouettes_3d_study",
     "condition19_trial", "condition19_study", "median_draw", "settling_step", "plots",
     "best_constant_error", "fig12_readings", "one_frame_guess", "trivial_baselines", "versus_baseline", "threshold_table",
+    "fig13_baselines",
 ]

@@ -22,7 +22,7 @@ from projtrack._validation import as_array, as_int, as_real
 from projtrack.experiments.ellipsoids.selection import settling_step
 
 __all__ = ["one_frame_guess", "trivial_baselines", "versus_baseline", "fig12_readings", "threshold_table",
-           "best_constant_error"]
+           "best_constant_error", "fig13_baselines"]
 
 
 def one_frame_guess(y0: object, A: object, drive: object) -> np.ndarray:
@@ -152,3 +152,32 @@ def best_constant_error(Xs: object, steps: slice = slice(8, None), n_starts: int
         if best is None or res.fun < best.fun:
             best = res
     return float(best.fun), mat(best.x)
+
+
+#: The trivial baselines of Fig. 13 (columns of :func:`projtrack.experiments.ellipsoids.model_trial`), name on the page.
+FIG13_BASELINES = (("no data, A and B errors", "no data, X_0 = 0"), ("no data X_0 = I, A and B errors", "no data, X_0 = I"),
+                   ("one frame X_0 = y_0 I, A and B errors", "one frame, X_0 = y_0 I"))
+
+
+def fig13_baselines(trials: pd.DataFrame, mean_error: float, *, rel: float = 1e-9) -> pd.DataFrame:
+    """The trivial baselines of Fig. 13 under the perturbed model, and how often the estimate beats each.
+
+    ``trials`` has one row per trial of :func:`projtrack.experiments.ellipsoids.model_trial` (its
+    error dict); ``mean_error`` is the error of the mean ellipse
+    (:func:`projtrack.experiments.ellipsoids.constant_baseline_error`). One row per baseline of
+    :data:`FIG13_BASELINES`: its median error, the share of trials it beats the mean ellipse,
+    and the shares in which the Fig. 13 estimate and the same estimate from noise-free data beat
+    it by more than ``rel`` (relative; exact ties count for neither).
+    """
+    if not isinstance(trials, pd.DataFrame):
+        raise TypeError("trials must be a pandas.DataFrame of model_trial error dicts")
+    mean_error = as_real(mean_error, "mean_error", 0.0)
+    rel = as_real(rel, "rel", 0.0)
+    est, clean = trials["A and B errors (Fig. 13)"], trials["same, noise-free data"]
+    rows = []
+    for key, name in FIG13_BASELINES:
+        b = trials[key] * (1 - rel)
+        rows.append({"baseline": name, "median error": float(trials[key].median()),
+                     "beats the mean ellipse": float(np.mean(trials[key] < mean_error)),
+                     "estimate beats it": float(np.mean(est < b)), "noise-free data beat it": float(np.mean(clean < b))})
+    return pd.DataFrame(rows)

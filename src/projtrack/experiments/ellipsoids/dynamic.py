@@ -460,7 +460,8 @@ def model_trial(rng: np.random.Generator, exp: dict, sd: float = 0.06) -> tuple[
     The errors hit the 4 entries of ``A`` and the 3 independent entries of each ``B_k``. The
     PSD-constrained batch estimate (the reading of Fig. 12 that reproduces, :func:`psd_batch_estimates`)
     is computed with the exact model, with either error and with both; with both errors from
-    noise-free observations; and the no-data baseline under the perturbed model.
+    noise-free observations; and the three trivial baselines of Fig. 12 under the perturbed model
+    (no data from ``X_0 = 0`` and from ``X_0 = I``, the one-frame guess ``X_0 = y_0 I``).
 
     Returns
     -------
@@ -480,7 +481,9 @@ def model_trial(rng: np.random.Generator, exp: dict, sd: float = 0.06) -> tuple[
     out = {"exact model": _psd_estimate(y, exp, A, Bs), "A error only": _psd_estimate(y, exp, A + dA, Bs),
            "B error only": _psd_estimate(y, exp, A, Bs + dB), "A and B errors (Fig. 13)": fig13,
            "same, noise-free data": _psd_estimate(exp["ideal"], exp, A + dA, Bs + dB),
-           "no data, A and B errors": E.simulate(np.zeros((2, 2)), A + dA, Bs + dB, K - 1)}
+           "no data, A and B errors": E.simulate(np.zeros((2, 2)), A + dA, Bs + dB, K - 1),
+           "no data X_0 = I, A and B errors": E.simulate(np.eye(2), A + dA, Bs + dB, K - 1),
+           "one frame X_0 = y_0 I, A and B errors": E.simulate(y[0] * np.eye(2), A + dA, Bs + dB, K - 1)}
     errs = {k: _tracking_error(v, Xs) for k, v in out.items()}
     errs["semi-axis error (Fig. 13)"] = _semi_axis_error(fig13, Xs)
     mean_abs_B = float(np.mean(np.abs(E.svec(Bs) * [1, 1 / np.sqrt(2), 1])))
