@@ -259,6 +259,16 @@ def test_accuracy_averages_the_net_over_data_sets():
         accuracy([res])
 
 
+def test_net_standard_error_is_over_data_sets():
+    from projtrack.experiments.neuralnet import net_standard_error
+    res = {"dataset": np.repeat(np.arange(4), 2), "correct": np.array([1, 1, 0, 0, 1, 0, 1, 0], bool)}
+    per_set = np.array([1.0, 0.0, 0.5, 0.5])
+    assert net_standard_error(res) == pytest.approx(100 * per_set.std(ddof=1) / 2)
+    assert np.isnan(net_standard_error({"dataset": np.zeros(3, int), "correct": np.ones(3, bool)}))
+    with pytest.raises(TypeError):
+        net_standard_error([])
+
+
 def test_noise_and_size_sweeps_are_rows_of_their_cells():
     rows = noise_sweep([0.0, 5.0], 2, 1, seed=90)
     assert [r["noise %"] for r in rows] == [0.0, 5.0]
@@ -266,6 +276,8 @@ def test_noise_and_size_sweeps_are_rows_of_their_cells():
         res = comparison_cells([([0.0, 5.0][i], 4, 90 + i)], 2, 1)[0]
         assert r["net sweeps per run"] == float(res["iterations"].mean())
         assert r["net"] == accuracy(res)["net"]
+        from projtrack.experiments.neuralnet import net_standard_error
+        assert r["net s.e."] == pytest.approx(net_standard_error(res), nan_ok=True)
         assert 0 <= r["optimum cost <= true cost %"] <= 100
     size_rows = size_sweep([3], [0.0, 5.0], 2, 1, seed=95)
     assert [(r["targets"], r["noise %"]) for r in size_rows] == [(3, 0.0), (3, 5.0)]
@@ -817,7 +829,9 @@ def test_degraded_optimum_study_keeps_clean_tracks_and_can_fail():
     assert rows[0]["tolerated %"] == 100.0 and rows[0]["spurious measurement used %"] == 0.0
     for r in rows:
         assert r["global minimum"] is True
-        shares = [r[k] for k in r if k.endswith(" %") and k not in ("tolerated %", "spurious measurement used %")]
+        shares = [r[k] for k in r if k.endswith(" %") and k not in ("tolerated %", "spurious measurement used %",
+                                                                   "real measurements kept %",
+                                                                   "spurious displacing a real %")]
         assert sum(shares) == pytest.approx(100.0)
     # with a spurious and a missing measurement the minimum is scored, not assumed to tolerate them
     assert 0.0 <= rows[1]["tolerated %"] <= 100.0
@@ -836,6 +850,25 @@ def test_degraded_optimum_puts_a_spurious_point_on_a_track_when_it_fits_better()
     assert A[0, 2] == 2
     draw = DegradedDraw(pos, labels, np.zeros((5, 3), bool), np.array([[0] * 5, [1] * 5]), np.zeros((1, 2, 3, 5)))
     assert degraded_outcome(nn.assignment_to_states(A, 3), True, draw) == "spurious on a true track"
+    from projtrack.experiments.neuralnet import measurement_counts
+    # 10 real measurements, one displaced by the spurious point; 5 spurious points, one displacing a real one
+    np.testing.assert_array_equal(measurement_counts(A, draw), [9, 10, 1, 5])
+    truth = np.array([[0] * 5, [1] * 5])
+    np.testing.assert_array_equal(measurement_counts(truth, draw), [10, 10, 0, 5])
+
+
+def test_tolerance_readings_pass_per_reading():
+    import pandas as pd
+    from projtrack.experiments.neuralnet import tolerance_readings
+    o = pd.DataFrame({"tolerated %": [100.0, 96.0, 70.0], "real measurements kept %": [100.0, 100.0, 98.0],
+                      "spurious displacing a real %": [0.0, np.nan, 8.0]}, index=["spurious", "missing", "both"])
+    t = tolerance_readings(o).groupby("reading", sort=False)["passes"].all()
+    assert t.to_dict() == {"each alone": True, "both, per data set": False, "both, per real measurement": True,
+                           "both, per spurious measurement": False}
+    o.loc["missing", "tolerated %"] = 90.0   # one condition failing fails the whole reading
+    assert not tolerance_readings(o).groupby("reading", sort=False)["passes"].all()["each alone"]
+    with pytest.raises(ValueError, match="conditions"):
+        tolerance_readings(o.drop(index="both"))
 
 
 def test_first_sweep_pattern_reads_rows_and_columns():

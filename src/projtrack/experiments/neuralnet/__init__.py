@@ -20,12 +20,12 @@ Modules (everything public is re-exported here):
   measurements and missing detections.
 """
 
-from .comparison import (METHODS, accuracy, comparison_cells, comparison_trial, frame_descent, frame_rule_study,
+from .comparison import (METHODS, accuracy, net_standard_error, comparison_cells, comparison_trial, frame_descent, frame_rule_study,
                          frame_rule_table, nearest_admissible, noise_sweep, operation_counts, optimum_net_ratios, descent_rounds, plot_comparison, plot_timing, size_sweep, update_order_study)
 from .criterion import (PAPER_FAILURES, ci_step, fmt_p, k_range, mode_probability, p_row, p_table, rate_ci,
                         stable_down, stable_up, table1_readings, table1_tables, ten_run_replications)
 from .degraded import (OUTCOMES, TOLERATED, DegradedDraw, bound_text, central_differences, connection_check,
-                       connection_table, degraded_outcome, degraded_optimum, degraded_optimum_study, degraded_study, draw_degraded, eq8_term3_check,
+                       connection_table, degraded_outcome, degraded_optimum, degraded_optimum_study, degraded_study, draw_degraded, measurement_counts, tolerance_readings, eq8_term3_check,
                        gradient_forms, plot_architecture, term3_eq9, term3_printed, term3_read)
 from .sensitivity import (SENSITIVITY_RULES, plot_readings, sensitivity_readings, sensitivity_seed, sensitivity_study,
                           sensitivity_table, sensitivity_verdicts)
@@ -107,7 +107,7 @@ __all__ = [
     "METHODS",
     "comparison_trial",
     "comparison_cells",
-    "accuracy",
+    "accuracy", "net_standard_error",
     "noise_sweep",
     "size_sweep",
     "OUTCOMES",
@@ -117,7 +117,7 @@ __all__ = [
     "degraded_outcome",
     "degraded_study",
     "degraded_optimum",
-    "degraded_optimum_study",
+    "degraded_optimum_study", "measurement_counts", "tolerance_readings",
     "first_sweep_pattern",
     "end_states",
     "operation_counts",

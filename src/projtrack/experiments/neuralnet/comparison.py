@@ -50,7 +50,7 @@ from projtrack.tolerance import EXACT, Tolerance, mean_over, share
 
 from .table1 import draw_simulation, run_draws, score_simulation, simulate
 
-__all__ = ["METHODS", "comparison_trial", "comparison_cells", "accuracy", "noise_sweep", "size_sweep",
+__all__ = ["METHODS", "comparison_trial", "comparison_cells", "accuracy", "net_standard_error", "noise_sweep", "size_sweep",
            "nearest_admissible", "frame_descent", "frame_rule_study", "frame_rule_table", "update_order_study",
            "plot_comparison", "plot_timing", "operation_counts", "descent_rounds"]
 
@@ -150,6 +150,23 @@ def accuracy(res: dict[str, np.ndarray]) -> dict[str, float]:
     return out
 
 
+def net_standard_error(res: dict[str, np.ndarray]) -> float:
+    """Monte Carlo standard error (percentage points) of the net's :func:`accuracy` in one cell.
+
+    The net's accuracy is a mean over data sets of the share of their starts that succeed, so its
+    standard error is the standard deviation of those shares over the square root of the number
+    of data sets (the starts of one data set are not independent). NaN with fewer than two.
+    """
+    if not isinstance(res, dict) or "dataset" not in res or "correct" not in res:
+        raise TypeError("res must be a dict of arrays with 'dataset' and 'correct'")
+    dataset = np.asarray(res["dataset"])
+    counts = np.bincount(dataset)
+    per_set = np.bincount(dataset, weights=np.asarray(res["correct"], dtype=float))[counts > 0] / counts[counts > 0]
+    if per_set.size < 2:
+        return float("nan")
+    return 100 * float(per_set.std(ddof=1) / np.sqrt(per_set.size))
+
+
 def noise_sweep(noise_levels: Sequence[float], n_datasets: int, n_starts: int, seed: int, *,
                 n_jobs: int | None = None) -> list[dict[str, float]]:
     """Accuracy against noise, four targets: one row per level (level ``i`` from ``default_rng(seed + i)``).
@@ -157,13 +174,15 @@ def noise_sweep(noise_levels: Sequence[float], n_datasets: int, n_starts: int, s
     Returns
     -------
     list of dict
-        ``noise %``, the :func:`accuracy` of every method, ``net sweeps per run`` (mean
-        iterations, a failed run counting the full 50) and ``optimum cost <= true cost %``.
+        ``noise %``, the :func:`accuracy` of every method, ``net s.e.`` (:func:`net_standard_error`),
+        ``net sweeps per run`` (mean iterations, a failed run counting the full 50) and
+        ``optimum cost <= true cost %``.
     """
     levels = _as_sequence(noise_levels, "noise_levels")
     seed = as_int(seed, "seed", minimum=0)
     cells = comparison_cells([(n, 4, seed + i) for i, n in enumerate(levels)], n_datasets, n_starts, n_jobs=n_jobs)
-    return [{"noise %": float(n), **accuracy(res), "net sweeps per run": float(res["iterations"].mean()),
+    return [{"noise %": float(n), **accuracy(res), "net s.e.": net_standard_error(res),
+             "net sweeps per run": float(res["iterations"].mean()),
              "optimum cost <= true cost %": 100 * float(np.mean(res["optimal_cost"] <= res["true_cost"] + 1e-12))}
             for n, res in zip(levels, cells)]
 
@@ -178,7 +197,8 @@ def size_sweep(sizes: Sequence[int], noise_levels: Sequence[float], n_datasets: 
     Returns
     -------
     list of dict
-        ``targets``, ``noise %``, the :func:`accuracy` of every method, ``net converged %``
+        ``targets``, ``noise %``, the :func:`accuracy` of every method, ``net s.e.``
+        (:func:`net_standard_error`), ``net converged %``
         and ``net iterations`` (mean over the converged runs, NaN if none).
     """
     sizes = [as_int(nt, "size", minimum=2) for nt in _as_sequence(sizes, "sizes")]
@@ -192,7 +212,7 @@ def size_sweep(sizes: Sequence[int], noise_levels: Sequence[float], n_datasets: 
     rows = []
     for (nt, n), res in zip(keys, cells):
         conv = res["converged"]
-        rows.append({"targets": nt, "noise %": float(n), **accuracy(res),
+        rows.append({"targets": nt, "noise %": float(n), **accuracy(res), "net s.e.": net_standard_error(res),
                      "net converged %": 100 * float(conv.mean()),
                      "net iterations": float(res["iterations"][conv].mean()) if conv.any() else float("nan")})
     return rows

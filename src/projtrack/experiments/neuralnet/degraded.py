@@ -56,7 +56,7 @@ from projtrack.stable import fmt
 from .comparison import frame_descent, nearest_admissible
 
 __all__ = ["OUTCOMES", "TOLERATED", "DegradedDraw", "draw_degraded", "degraded_outcome", "degraded_study",
-           "degraded_optimum", "degraded_optimum_study",
+           "degraded_optimum", "degraded_optimum_study", "measurement_counts", "tolerance_readings",
            "term3_printed", "term3_read", "term3_eq9", "central_differences", "eq8_term3_check", "bound_text",
            "connection_table", "gradient_forms", "connection_check", "plot_architecture"]
 
@@ -513,7 +513,9 @@ def degraded_optimum_study(conditions: Sequence[tuple[str, int, int]], n_dataset
     list of dict
         Per condition: ``condition``, the percentage of data sets in each of :data:`OUTCOMES`,
         ``tolerated %``, ``spurious measurement used %`` (the minimum holds some spurious
-        measurement) and ``global minimum`` (bool: the check above held for every data set).
+        measurement), ``global minimum`` (bool: the check above held for every data set), and per
+        measurement (:func:`measurement_counts`, pooled over the data sets) ``real measurements
+        kept %`` and ``spurious displacing a real %`` (NaN without spurious measurements).
     """
     conditions = _as_pairs(conditions, "conditions", 3)
     n_datasets = as_int(n_datasets, "n_datasets", minimum=1)
@@ -525,15 +527,105 @@ def degraded_optimum_study(conditions: Sequence[tuple[str, int, int]], n_dataset
     for c, (cond, n_sp, n_mi) in enumerate(conditions):
         draws = montecarlo.run(draw_degraded, n_datasets, np.random.default_rng([seed, c]), n_sp, n_mi, n_starts,
                                n_jobs=n_jobs)
-        outcome, used, ok = [], [], True
+        outcome, used, ok, counts = [], [], True, np.zeros(4, dtype=np.int64)
         for d in draws:
             A, cost = degraded_optimum(distance_tensor(d.positions / unit), 4)
             n_m = d.positions.shape[1]
             outcome.append(degraded_outcome(assignment_to_states(A, n_m), True, d))
             used.append(bool(np.any(d.labels[np.arange(A.shape[1])[None, :], A] < 0)))
             ok = ok and c4.A4 * cost < min(c4.A1, c4.A2, c4.A3)
+            counts += measurement_counts(A, d)
         share = {o: 100 * sum(x == o for x in outcome) / len(outcome) for o in OUTCOMES}
         rows.append({"condition": cond, "tolerated %": sum(share[o] for o in TOLERATED),
                      **{f"{o} %": share[o] for o in OUTCOMES},
-                     "spurious measurement used %": 100 * float(np.mean(used)), "global minimum": bool(ok)})
+                     "spurious measurement used %": 100 * float(np.mean(used)), "global minimum": bool(ok),
+                     "real measurements kept %": 100 * float(counts[0] / counts[1]) if counts[1] else float("nan"),
+                     "spurious displacing a real %": 100 * float(counts[2] / counts[3]) if counts[3] else float("nan")})
     return rows
+
+
+def measurement_counts(A: np.ndarray, draw: DegradedDraw) -> np.ndarray:
+    """Per-measurement counts of an assignment on degraded data: how many real measurements stay on their track.
+
+    The track of a target is the true target most of its real (not padded, not spurious)
+    measurements belong to (a true target claimed by two targets counts for the one holding more
+    of it). A spurious measurement *displaces* a real one when the target holding it follows a
+    track whose real detection in that frame exists (it does not merely fill a missing detection's
+    gap).
+
+    Parameters
+    ----------
+    A : array_like of int, shape (N_T, N_P)
+        Measurement of each target in each frame.
+    draw : DegradedDraw
+
+    Returns
+    -------
+    ndarray of int, shape (4,)
+        Real measurements on their own track, real measurements, spurious measurements that
+        displace a real one, spurious measurements.
+    """
+    if not isinstance(draw, DegradedDraw):
+        raise TypeError(f"draw must be a DegradedDraw, got {type(draw).__name__}")
+    A = np.asarray(A)
+    labels, padded = draw.labels, draw.padded
+    if A.ndim != 2 or A.shape[1] != labels.shape[0]:
+        raise ValueError(f"A must have shape (N_T, N_P = {labels.shape[0]}), got {A.shape}")
+    frames = np.arange(labels.shape[0])[None, :]
+    taken, pad = labels[frames, A], padded[frames, A]
+    real = (taken >= 0) & ~pad
+    best: dict[int, tuple[int, int]] = {}                       # true target -> (count, holding target)
+    own = np.full(A.shape[0], -1)
+    for k in range(A.shape[0]):
+        if real[k].any():
+            vals, cnt = np.unique(taken[k][real[k]], return_counts=True)
+            own[k] = int(vals[np.argmax(cnt)])
+            if own[k] not in best or best[own[k]][0] < cnt.max():
+                best[int(own[k])] = (int(cnt.max()), k)
+    kept = sum(c for c, _ in best.values())
+    n_real = int(((labels >= 0) & ~padded).sum())
+    displacing = 0
+    for k, a in zip(*np.nonzero(taken < 0)):
+        displacing += int(own[k] >= 0 and bool(np.any((labels[a] == own[k]) & ~padded[a])))
+    return np.array([kept, n_real, displacing, int((labels < 0).sum())], dtype=np.int64)
+
+
+def tolerance_readings(optimum: pd.DataFrame, threshold: float = 95.0) -> pd.DataFrame:
+    """The readings of "enables us to tolerate both spurious measurements and the absence of measurements".
+
+    Each degradation alone (the paper's paragraph treats them one at a time, and the combined case
+    apart), or both at once, counted per data set (every real measurement on its own track), per
+    real measurement (on its own track) or per spurious measurement (not displacing a real one,
+    :func:`measurement_counts`).
+
+    Parameters
+    ----------
+    optimum : DataFrame
+        :func:`degraded_optimum_study` indexed by condition, with rows ``spurious``, ``missing``
+        and ``both``.
+    threshold : float, default 95
+        The share (%) a general statement needs (rule 7).
+
+    Returns
+    -------
+    DataFrame
+        ``reading``, ``counted``, ``%`` and ``passes`` (the reading's every row reaches the
+        threshold).
+    """
+    if not isinstance(optimum, pd.DataFrame):
+        raise TypeError(f"optimum must be a DataFrame, got {type(optimum).__name__}")
+    missing = [c for c in ("spurious", "missing", "both") if c not in optimum.index]
+    if missing:
+        raise ValueError(f"optimum lacks the conditions {missing}")
+    o = optimum
+    rows = [("each alone", "data sets, spurious", o.loc["spurious", "tolerated %"]),
+            ("each alone", "data sets, missing", o.loc["missing", "tolerated %"]),
+            ("both, per data set", "data sets", o.loc["both", "tolerated %"]),
+            ("both, per real measurement", "real measurements kept", o.loc["both", "real measurements kept %"]),
+            ("both, per spurious measurement", "spurious, displacing none",
+             100.0 - o.loc["both", "spurious displacing a real %"])]
+    out = pd.DataFrame(rows, columns=["reading", "counted", "%"])
+    out["%"] = out["%"].astype(float)
+    ok = out.groupby("reading", sort=False)["%"].transform("min") >= threshold
+    out["passes"] = ok.astype(bool)
+    return out
