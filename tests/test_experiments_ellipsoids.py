@@ -350,6 +350,24 @@ def test_model_trial_without_errors_is_the_exact_model(exp):
         XP.model_trial(np.random.default_rng(4), exp, sd=-1.0)
 
 
+def test_first_measure_table_divides_by_the_mean_size(exp):
+    trials = XP.imperfect_model_study(exp, 3, np.random.default_rng(6))
+    tab = XP.first_measure_table(exp, trials).set_index("estimate")
+    Xs, (w, dA, dB) = exp["Xs"], trials[0][1]
+    X0 = E.simulate(np.zeros((2, 2)), exp["A"] + dA, exp["Bs"] + dB, len(Xs) - 1)
+    size = np.mean(np.linalg.norm(Xs, axis=(1, 2)))
+    per_trial = [np.median(np.linalg.norm(E.simulate(np.zeros((2, 2)), exp["A"] + t[1][1], exp["Bs"] + t[1][2],
+                                                      len(Xs) - 1)[8:] - Xs[8:], axis=(1, 2))) / size for t in trials]
+    assert np.median(np.linalg.norm(X0[8:] - Xs[8:], axis=(1, 2))) / size == pytest.approx(per_trial[0])
+    assert tab.loc["no data, X_0 = 0", "median error (first measure)"] == pytest.approx(np.median(per_trial), rel=1e-12)
+    assert tab.loc["no data, X_0 = 0", "share below 0.25"] == pytest.approx(np.mean(np.array(per_trial) < 0.25))
+    # without model errors and noise the LS and PSD estimates are the truth
+    clean = [({}, (np.zeros_like(w), 0 * dA, 0 * dB))]
+    assert XP.first_measure_table(exp, clean).iloc[:2]["median error (first measure)"].max() < 1e-9
+    with pytest.raises(ValueError, match="threshold"):
+        XP.first_measure_table(exp, trials, threshold=0.0)
+
+
 def test_fig13_baselines_counts_strict_wins():
     t = pd.DataFrame({"A and B errors (Fig. 13)": [0.1, 0.3, 0.2], "same, noise-free data": [0.1, 0.1, 0.1],
                       "no data, A and B errors": [0.2, 0.2, 0.2], "no data X_0 = I, A and B errors": [0.1, 0.3, 0.2],

@@ -14,7 +14,7 @@ from .baselines import (best_constant_error, fig12_readings, fig13_baselines, on
                         trivial_baselines, versus_baseline)
 from .beyond import (alg1_sdp_summary, compare_alg1_sdp, condition19_study, condition19_trial, constraint_violation,
                      random_interval_draw, random_interval_problems, silhouette_trial, silhouettes_3d_study)
-from .dynamic import (ESTIMATORS, constant_baseline_error, estimator_table, fig12_noise_study,
+from .dynamic import (ESTIMATORS, constant_baseline_error, estimator_table, fig12_noise_study, first_measure_table,
                       imperfect_model_study, kalman_vs_batch, model_error_scan, model_trial, no_data_estimate,
                       psd_batch_estimates, psd_project_2x2, relative_errors, settling_study,
                       time_k_psd_estimates, time_k_study)
@@ -34,7 +34,8 @@ __all__ = [
     "projector_form_trial", "projector_form_study",
     "relative_errors", "no_data_estimate", "psd_project_2x2", "psd_batch_estimates", "time_k_psd_estimates",
     "ESTIMATORS", "fig12_noise_study", "estimator_table", "time_k_study", "settling_study",
-    "constant_baseline_error", "model_trial", "imperfect_model_study", "model_error_scan", "kalman_vs_batch",
+    "constant_baseline_error", "model_trial", "imperfect_model_study", "first_measure_table", "model_error_scan",
+    "kalman_vs_batch",
     "shaping_family_study",
     "random_interval_draw", "random_interval_problems", "constraint_violation", "compare_alg1_sdp", "alg1_sdp_summary",
     "silhouette_trial", "silhouettes_3d_study",
