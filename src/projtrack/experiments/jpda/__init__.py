@@ -26,13 +26,13 @@ from .crosschecks import (
 )
 from .equivalence import equivalence_study, equivalence_summary, equivalence_trial, normalization_summary
 from .misprints import (
-    LEVEL_OFF,
     RELATIVE_FALL,
     count_table_verdict,
     fast_count_readings,
     grows_geometrically,
     growth_readings,
     relative_growth_table,
+    row_growth,
     multiplication_rule_table,
     multiplication_rules,
     misprint_evidence,
@@ -102,7 +102,7 @@ __all__ = [
     "growth_readings",
     "relative_growth_table",
     "RELATIVE_FALL",
-    "LEVEL_OFF",
+    "row_growth",
     "beta_literature_rule",
     "permanent_rect",
     "beta_by_permanents",
