@@ -238,24 +238,28 @@ def test_growth_readings_and_their_baselines():
         ex.grows_geometrically({3: 1, 4: 2, 5: 4})
     growth = ex.vector_growth(range(3, 9))
     r = ex.growth_readings(growth, diag=range(3, 6))
-    # the vector length grows geometrically (reading 1 fails), falls fast against eq. (1) and
-    # levels off in T (readings 2 and 3 hold)
-    assert r["claim holds"].tolist() == [False, True, True]
-    # each criterion can fail: reading 1's baseline (not growing) passes, the combinatorial
-    # baselines of readings 2 and 3 fail
-    assert r["baseline holds"].tolist() == [True, False, False]
+    # the vector length grows geometrically (reading 1 fails) and falls fast against eq. (1)
+    # (reading 2 holds)
+    assert r["claim holds"].tolist() == [False, True]
+    # each criterion can fail: reading 1's baseline (not growing) passes, reading 2's
+    # combinatorial baseline fails
+    assert r["baseline holds"].tolist() == [True, False]
     assert r.iloc[0]["values"].startswith("7, 15, 31 (m = T = 3..5); x")
     assert "from 7 to 8" in r.iloc[0]["values"]
-    assert r.iloc[2]["values"] == "x1.00 to x1.06 from T = 6 to 7 (m = 3..7)"  # Table III: 120 -> 127
-    # a level-off threshold below the length's last step makes reading 3 fail
-    r3 = ex.growth_readings(growth, table_sizes=range(3, 6))  # T = 4 -> 5 at m = 5: 26 -> 31
-    assert not r3["claim holds"].iloc[2]
     with pytest.raises(TypeError, match="vector_growth"):
         ex.growth_readings(growth["vector length"])
     with pytest.raises(ValueError, match="diag"):
         ex.growth_readings(growth, diag=[3])
-    with pytest.raises(ValueError, match="table_sizes"):
-        ex.growth_readings(growth, table_sizes=[3])
+
+
+def test_row_growth_of_table3():
+    # along Table III's rows (T = 3 -> 7): m = 3 from 7 to 8, m = 7 from 29 to 127
+    g = ex.row_growth(range(3, 8))
+    assert g["low"] == pytest.approx(8 / 7)
+    assert (g["m_high"], g["lengths"]) == (7, (29, 127))
+    assert g["high"] == pytest.approx(127 / 29)
+    with pytest.raises(ValueError, match="sizes"):
+        ex.row_growth([3])
 
 
 def test_relative_growth_table_separates_combinatorial_from_exponential():

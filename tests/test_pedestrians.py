@@ -208,6 +208,31 @@ def test_score_table_and_tolerances():
     assert tol["MOTA"].atol == pytest.approx(1 / 359) and tol["ID switches"].atol == 0.5
 
 
+def _fake_draw(j, g):
+    keys = ("mota", "motp", "idf1", "num_switches", "num_false_positives", "num_misses")
+    return {"jpda": dict.fromkeys(keys, j), "gnn": dict.fromkeys(keys, g)}
+
+
+def test_paired_mota_table_and_draw_spread_tolerances():
+    draws = [_fake_draw(j, g) for j, g in ((0.80, 0.82), (0.84, 0.83), (0.76, 0.80), (0.80, 0.81))]
+    t = ped.paired_mota_table({("base", "TUD-Campus"): draws})
+    d = np.array([-0.02, 0.01, -0.04, -0.01])
+    assert t.loc[0, "MOTA JPDA - GNN"] == pytest.approx(d.mean())
+    assert t.loc[0, "standard error (draws)"] == pytest.approx(d.std(ddof=1) / 2)
+    assert t.loc[0, "GNN better (share of draws)"] == 0.75
+    tol = ped.draw_spread_tolerances([draws])
+    per = 0.2  # 4 sd of JPDA's MOTA over the draws (4 x 0.0327 = 0.131), rounded up to one digit
+    assert tol["MOTA"].atol == pytest.approx(per / 4)
+    assert tol["MOTA JPDA - GNN"].atol == pytest.approx(per / 4)
+    assert tol["standard error (draws)"].atol == pytest.approx(per / np.sqrt(12))
+    assert tol["GNN better (share of draws)"].atol == 0.25
+    # a single run's one-box tolerance is kept where it is the larger
+    big = ped.pedestrian_tolerances(1, 3)
+    assert ped.draw_spread_tolerances([draws], one_run=big)["MOTA"].atol == pytest.approx(2 / 3)
+    with pytest.raises(ValueError, match="two draws"):
+        ped.draw_spread_tolerances([draws[:1]])
+
+
 # -- association time ---------------------------------------------------------------------------
 
 def test_time_association_agrees_with_stonesoup_and_skips_huge_clusters():

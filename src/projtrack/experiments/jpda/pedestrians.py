@@ -50,7 +50,7 @@ from .pedtracking import PedestrianModel, TrackRun, track_sequence
 __all__ = ["SETTINGS", "TRACKER_NAMES", "motion_statistics", "detector_statistics", "cv_matrices",
            "pedestrian_model", "gt_model", "shipped_model", "synthetic_detections", "shipped_detections",
            "run_difference", "run_trackers_on", "pedestrian_trial", "shipped_trial", "pedestrian_study",
-           "pedestrian_table", "pedestrian_tolerances"]
+           "pedestrian_table", "pedestrian_tolerances", "draw_spread_tolerances", "paired_mota_table"]
 
 #: Detection settings of the ``"gt"`` source, stated before any run: detection probability,
 #: noise standard deviation per axis (pixels), mean false detections per frame.
@@ -327,3 +327,69 @@ def pedestrian_tolerances(n_draws: int, n_objects: int) -> dict:
            "ID switches": 1.0, "false positives": 1.0, "misses": 1.0}
     return {col: statistical(atol=v / n_draws, why=f"{what}: {col} moves by {v:.3g} in that run")
             for col, v in per.items()}
+
+
+def _up_one_digit(x: float) -> float:
+    """``x > 0`` rounded up to one significant digit (``0.061 -> 0.07``): a tolerance computed
+    from the data stays put unless one draw's change moves it across a digit."""
+    e = 10.0 ** math.floor(math.log10(x))
+    return float(f"{math.ceil(round(x / e, 9)) * e:.1g}")
+
+
+def draw_spread_tolerances(groups: Sequence[Sequence[dict]], one_run: dict | None = None) -> dict:
+    """Tolerances of means over draws of :func:`pedestrian_table` columns: one draw's run changed.
+
+    A flipped decision (a gate, a track confirmed one scan later) can change the rest of a
+    draw's run, so the draw's value may move by as much as draws differ from one another:
+    four standard deviations over the draws (the largest over the ``groups``, each a list of
+    :func:`pedestrian_trial` results of one setting and sequence, and over the trackers),
+    rounded up to one digit. A mean over ``n`` draws moves by that over ``n`` (about one
+    standard error, ``sd / sqrt(n)``, for ``n`` near 16). ``one_run`` (:func:`pedestrian_tolerances` of a single deterministic
+    run in the same table) raises a column's tolerance to at least its own.
+
+    Also returns, under ``"MOTA JPDA - GNN"`` and ``"standard error (draws)"`` and
+    ``"GNN better (share of draws)"``, the tolerances of :func:`paired_mota_table`.
+    """
+    if not groups or any(len(g) < 2 for g in groups):
+        raise ValueError("groups must hold lists of at least two draws each")
+    n = min(len(g) for g in groups)
+    trackers = [t for t in TRACKER_NAMES if all(t in g[0] for g in groups)]
+    out = {}
+    for col, key in _COLUMNS.items():
+        sd = max(float(np.std([d[t][key] for d in g], ddof=1)) for g in groups for t in trackers)
+        per = _up_one_digit(max(4 * sd, 1e-9))
+        atol, why = per / n, (f"a flipped decision can change the rest of one draw's run, by up to 4 sd over "
+                              f"the draws ({per:g} in {col}); the mean over {n} draws moves by {per:g}/{n}")
+        if one_run is not None and one_run[col].atol > atol:
+            atol = one_run[col].atol
+            why += f"; the single test.txt run by one box's outcome, {atol:.3g}"
+        out[col] = statistical(atol=atol, why=why)
+        if col == "MOTA":
+            out["MOTA JPDA - GNN"] = statistical(atol=per / n, why=(
+                f"one draw's run of either tracker changed moves the paired difference of that draw by up to "
+                f"{per:g} (4 sd of MOTA over the draws), the mean over {n} draws by {per:g}/{n}"))
+            out["standard error (draws)"] = statistical(atol=per / math.sqrt(n * (n - 1)), why=(
+                f"one of {n} values changing by {per:g} moves a standard deviation by at most {per:g}/sqrt({n - 1}), "
+                f"the standard error by {per:g}/sqrt({n} x {n - 1})"))
+    out["GNN better (share of draws)"] = statistical(atol=1 / n, why=f"one of {n} draws changing sides moves "
+                                                                     f"the share by 1/{n}")
+    return out
+
+
+def paired_mota_table(studies: dict) -> pd.DataFrame:
+    """MOTA of the book's JPDA minus GNN's, draw by draw (both track the same detections).
+
+    ``studies`` maps ``(setting, sequence)`` to a list of :func:`pedestrian_trial` results.
+    One row per key: ``setting``, ``sequence``, ``MOTA JPDA - GNN`` (mean of the paired
+    differences), ``standard error (draws)`` (their standard deviation over ``sqrt(n)``) and
+    ``GNN better (share of draws)``.
+    """
+    rows = []
+    for (setting, name), draws in studies.items():
+        if len(draws) < 2:
+            raise ValueError("each study needs at least two draws (a standard error needs two)")
+        d = np.array([r["jpda"]["mota"] - r["gnn"]["mota"] for r in draws])
+        rows.append({"setting": setting, "sequence": name, "MOTA JPDA - GNN": float(d.mean()),
+                     "standard error (draws)": float(d.std(ddof=1) / math.sqrt(len(d))),
+                     "GNN better (share of draws)": float((d < 0).mean())})
+    return pd.DataFrame(rows)
