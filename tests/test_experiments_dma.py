@@ -325,6 +325,12 @@ def test_road_example_speed_and_interval():
     assert set(out) == {"viterbi"} and out["viterbi"].shape == (2, 20)
     with pytest.raises(ValueError, match="methods"):
         ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("ekf",))
+    with pytest.raises(ValueError, match="methods"):
+        ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=())
+    # the EKF alone replays the EKF of a full run on the same drives
+    alone = ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=(), with_ekf=True)
+    both = ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("viterbi",), with_ekf=True)
+    assert set(alone) == {"ekf"} and np.allclose(alone["ekf"], both["ekf"])
     with pytest.raises(ValueError, match="speed"):
         ex.make_road_example(np.random.default_rng(1), speed=0.0)
 
