@@ -569,3 +569,22 @@ def test_velocity_field_chain_width():
     for bad in (0.0, -1.0, np.nan):
         with pytest.raises(ValueError, match="width"):
             dma.transitions_from_velocity_field(P, mf.sphere_velocity, 0.2, width=bad)
+def test_viterbi_spends_an_unobserved_stretch_in_the_stickiest_state():
+    # A left-to-right chain observed only at its two ends: every path through the hidden
+    # frames makes the same moves, so the MAP path puts all its waiting in the state with
+    # the largest self-loop (state 3, 0.8) and runs ahead of a car that moves steadily.
+    # This is why the slot-car Viterbi estimate leads the car under a wide bridge; the
+    # per-instant posterior spreads the waiting instead.
+    stay = np.array([0.5, 0.2, 0.2, 0.8, 0.5])
+    P = np.diag(stay) + np.diag(1 - stay[:-1], 1)
+    P[-1, 0] = 0.5  # a closed track, like the slot-car loop
+    n = 9
+    le = np.zeros((n, 5))
+    le[0] = [0.0, -50, -50, -50, -50]
+    le[-1] = [-50, -50, -50, -50, 0.0]
+    with np.errstate(divide="ignore"):
+        ls, lt = np.log([1.0, 0, 0, 0, 0]), np.log(P)
+    path = dma.viterbi(ls, lt, le)
+    assert list(path) == [0, 1, 2, 3, 3, 3, 3, 3, 4]
+    post = np.exp(dma.forward_backward(ls, lt, le)[0])
+    assert post[2, 1:3].sum() > post[2, 3]  # the posterior has not yet moved on at frame 2

@@ -325,6 +325,12 @@ def test_road_example_speed_and_interval():
     assert set(out) == {"viterbi"} and out["viterbi"].shape == (2, 20)
     with pytest.raises(ValueError, match="methods"):
         ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("ekf",))
+    with pytest.raises(ValueError, match="methods"):
+        ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=())
+    # the EKF alone replays the EKF of a full run on the same drives
+    alone = ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=(), with_ekf=True)
+    both = ex.road_trials(road, 2, 20, np.random.default_rng(3), methods=("viterbi",), with_ekf=True)
+    assert set(alone) == {"ekf"} and np.allclose(alone["ekf"], both["ekf"])
     with pytest.raises(ValueError, match="speed"):
         ex.make_road_example(np.random.default_rng(1), speed=0.0)
 
@@ -515,7 +521,7 @@ def test_bridge_width_study_hides_longer_and_replays_the_page_runs():
     assert list(err["bridge [px]"]) == [7.0, 20.0] and len(walk) == 2
     s7, s20 = err["longest hidden stretch"]
     assert s20 > s7 >= 1  # a wider deck hides the car for longer
-    for col in ("DMA", "per-frame", "interpolation", "grid HMM"):
+    for col in ("DMA", "DMA smoother", "per-frame", "interpolation", "grid HMM"):
         assert ((passing[col] >= 0) & (passing[col] <= 1)).all()
     assert set(tol) == {"errors", "passing", "walk"} and tol["passing"]["*"].atol == pytest.approx(0.5)
     assert tol["errors"]["DMA"].kind == "statistical"
@@ -524,14 +530,15 @@ def test_bridge_width_study_hides_longer_and_replays_the_page_runs():
 def test_bridge_width_tables_counts_videos_below_the_limit(slotcar):
     _, _, model, _ = slotcar
     occ = np.array([False, True, True, False])
-    trials = [{"viterbi": np.array([9.0, 1.0, 2.0, 9.0]), "per-frame": np.full(4, 9.0), "detector": np.full(4, 9.0),
+    trials = [{"viterbi": np.array([9.0, 1.0, 2.0, 9.0]), "smooth": np.full(4, 1.0), "per-frame": np.full(4, 9.0), "detector": np.full(4, 9.0),
                "grid": np.array([0.0, 4.0, 4.0, 0.0]), "gap": np.array(1), "occluded": occ},
-              {"viterbi": np.array([0.0, 5.0, 5.0, 0.0]), "per-frame": np.full(4, 1.0), "detector": np.full(4, 9.0),
+              {"viterbi": np.array([0.0, 5.0, 5.0, 0.0]), "smooth": np.full(4, 4.0), "per-frame": np.full(4, 1.0), "detector": np.full(4, 9.0),
                "grid": np.array([0.0, 2.0, 2.0, 0.0]), "gap": np.array(1), "occluded": occ}]
     mfree = ex.MapFree(1.0, 5, type("G", (), {"max_step": 3.0})())
     tables, _ = ex.bridge_width_tables({(7.0, "easy"): (trials, (model, None), mfree)})
     row = tables["passing"].iloc[0]
     assert (row["DMA"], row["per-frame"], row["interpolation"], row["grid HMM"]) == (0.5, 0.5, 0.0, 0.5)
+    assert row["DMA smoother"] == 0.5
     err = tables["errors"].iloc[0]
     assert err["DMA"] == pytest.approx(3.25) and err["longest hidden stretch"] == 2.0
     with pytest.raises(ValueError):
@@ -539,6 +546,23 @@ def test_bridge_width_tables_counts_videos_below_the_limit(slotcar):
     with pytest.raises(ValueError):
         ex.bridge_width_tables({(7.0, "easy"): ([{k: v for k, v in trials[0].items() if k != "grid"}], (model, None),
                                                  mfree)})
+
+
+def test_fit_seed_study_repeats_the_bridge_study_per_fit():
+    opts = dict(train_seeds=(1, 2), test_seed=8, n_train=60, n_frames=120)
+    table, tol = ex.fit_seed_study((7.0,), {"easy": ({}, 0.5)}, (3, 4), 2, **opts)
+    assert list(table.columns) == ["bridge [px]", "condition", "model seed", "DMA", "DMA smoother"]
+    assert list(table["model seed"]) == [3, 4] and tol["*"].atol == pytest.approx(0.5)
+    # the seed of the bridge-width study gives that study's share
+    study = ex.bridge_width_study((7.0,), {"easy": ({}, 0.5)}, 2, model_seed=3, **opts)
+    passing = ex.bridge_width_tables(study)[0]["passing"].iloc[0]
+    assert table.iloc[0]["DMA"] == passing["DMA"] and table.iloc[0]["DMA smoother"] == passing["DMA smoother"]
+    with pytest.raises(ValueError, match="model_seeds"):
+        ex.fit_seed_study((7.0,), {"easy": ({}, 0.5)}, (), 2, **opts)
+    with pytest.raises(ValueError, match="conditions"):
+        ex.fit_seed_study((7.0,), {}, (3,), 2, **opts)
+    with pytest.raises(ValueError, match="widths"):
+        ex.fit_seed_study((0.0,), {"easy": ({}, 0.5)}, (3,), 2, **opts)
 
 
 def test_share_interval_is_clopper_pearson():

@@ -43,7 +43,7 @@ from projtrack.experiments.dma.roads import (
     road_trials,
     share_interval,
 )
-from projtrack.experiments.dma.occlusion import bridge_width_study, bridge_width_tables, hidden_stretch
+from projtrack.experiments.dma.occlusion import bridge_width_study, bridge_width_tables, fit_seed_study, hidden_stretch
 from projtrack.experiments.dma.plots import plot_fig9, plot_harder
 from projtrack.experiments.dma.slotcar import (
     GridHMM,
@@ -150,6 +150,7 @@ __all__ = [
     "transition_convergence",
     "bridge_width_study",
     "bridge_width_tables",
+    "fit_seed_study",
     "hidden_stretch",
     "share_interval",
     "loglog_slopes",

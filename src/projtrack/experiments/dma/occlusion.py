@@ -4,7 +4,8 @@ The paper's video is not published and its occlusion length is not given. The sy
 video hides the car under a deck ``bridge_width`` px wide; :func:`bridge_width_study`
 repeats the Fig. 9 study and the trackers without the manifold (DMA-S4) at other widths,
 and :func:`bridge_width_tables` tabulates the hidden-frame errors and the share of the test
-videos that stay within the Fig. 9 limit.
+videos that stay within the Fig. 9 limit. :func:`fit_seed_study` refits the model with other
+seeds (the EM regions and the prototypes move), to show how much one fit decides.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from projtrack.experiments.dma.slotcar import (
 from projtrack.scenes.slotcar import make_slotcar_video
 from projtrack.tolerance import EXACT, Tolerance, mean_over, share, statistical
 
-__all__ = ["bridge_width_study", "hidden_stretch", "bridge_width_tables"]
+__all__ = ["bridge_width_study", "hidden_stretch", "bridge_width_tables", "fit_seed_study"]
 
 
 def bridge_width_study(widths: tuple[float, ...], conditions: dict, n_videos: int, *, train_seeds=(31, 32, 33),
@@ -99,8 +100,8 @@ def bridge_width_tables(study: dict, limit: float = 3.0, frame_shape: tuple[int,
         ``"errors"``: per width and condition, ``bridge [px]``, ``condition``,
         ``longest hidden stretch`` (frames, mean over the videos) and the mean error [px] over
         every hidden frame of ``DMA``, ``interpolation`` (:func:`~projtrack.experiments.dma.detect_and_interpolate`) and
-        ``grid HMM`` (:class:`~projtrack.experiments.dma.GridHMM`). ``"passing"``: the same keys and, for these and the
-        ``per-frame`` detector, the share of the videos whose own hidden-frame mean is below
+        ``grid HMM`` (:class:`~projtrack.experiments.dma.GridHMM`). ``"passing"``: the same keys and, for these, DMA's
+        per-instant forward-backward estimate (``DMA smoother``) and the ``per-frame`` detector, the share of the videos whose own hidden-frame mean is below
         ``limit`` (the book's reading of a single shown run: a share of the draws).
         ``"walk"``: for the grid variants of the trials (``grid <label>``), their mean error
         and their share of passing videos (empty if there are none).
@@ -135,7 +136,8 @@ def bridge_width_tables(study: dict, limit: float = 3.0, frame_shape: tuple[int,
         rows["errors"].append({**key, "longest hidden stretch": float(np.mean([hidden_stretch(o) for o in occ])),
                                "DMA": pooled("viterbi"), "interpolation": pooled("detector"),
                                "grid HMM": pooled("grid")})
-        rows["passing"].append({**key, "DMA": passing("viterbi"), "per-frame": passing("per-frame"),
+        rows["passing"].append({**key, "DMA": passing("viterbi"), "DMA smoother": passing("smooth"),
+                                "per-frame": passing("per-frame"),
                                 "interpolation": passing("detector"), "grid HMM": passing("grid")})
         for label in sorted(mf.variants):
             rows["walk"].append({**key, "walk width": label, "grid HMM [px]": pooled(f"grid {label}"),
@@ -158,3 +160,62 @@ def bridge_width_tables(study: dict, limit: float = 3.0, frame_shape: tuple[int,
         "walk": {"bridge [px]": EXACT, "grid HMM [px]": grid_tol, "*": share(min(n_videos))},
     }
     return {name: pd.DataFrame(r) for name, r in rows.items()}, tol
+
+
+def fit_seed_study(widths: tuple[float, ...], conditions: dict, model_seeds: tuple[int, ...], n_videos: int, *,
+                   train_seeds=(31, 32, 33), test_seed: int = 30, n_train: int = 300, n_frames: int = 593,
+                   limit: float = 3.0):
+    """The share of test videos DMA keeps within ``limit`` under the bridge, per model fit.
+
+    The training runs and the test videos are those of :func:`bridge_width_study` (same seeds);
+    only the seed of the fit (EM regions, local PCA, k-means prototypes) changes, so the spread
+    over ``model_seeds`` is the part of a result that one fit decides.
+
+    Parameters
+    ----------
+    widths : tuple of float
+        Bridge deck widths (px), each > 0.
+    conditions : dict
+        Condition -> ``(video options, annotation std)``, as on the Example 3 page.
+    model_seeds : tuple of int
+        Seeds of :func:`~projtrack.experiments.dma.fit_slotcar` (at least one).
+    n_videos : int
+        Test videos per width and condition (>= 1).
+    train_seeds, test_seed, n_train, n_frames
+        As in :func:`bridge_width_study`.
+    limit : float
+        The error (px) a video's hidden-frame mean must stay below to pass (> 0).
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``bridge [px]``, ``condition``, ``model seed`` and the shares of passing videos for the
+        Viterbi path (``DMA``) and the per-instant forward-backward estimate (``DMA smoother``).
+    tolerance : dict
+        Column tolerances (a share moves by one video).
+    """
+    import pandas as pd
+
+    if not isinstance(conditions, dict) or not conditions:
+        raise ValueError("conditions must be a non-empty dict of condition -> (video options, annotation std)")
+    seeds = [int(s) for s in model_seeds]
+    if not seeds:
+        raise ValueError("model_seeds must hold at least one seed")
+    limit = as_real(limit, "limit", 0, low_open=True)
+    rows = []
+    for w in widths:
+        w = as_real(w, "widths[i]", 0, low_open=True)
+        for k, (opts, ann) in conditions.items():
+            train = [make_slotcar_video(n_train, np.random.default_rng(s), bridge_width=w, **opts) for s in train_seeds]
+            bg = training_background(train)
+            for seed in seeds:
+                fitted = fit_slotcar(train, np.random.default_rng(seed), annotation_std=ann, background=bg)
+                trials = tracking_study(*fitted, bg, n_videos, np.random.default_rng(test_seed), n_frames=n_frames,
+                                        bridge_width=w, **opts)
+                occ = [np.asarray(t["occluded"], dtype=bool) for t in trials]
+                if not all(o.any() for o in occ):
+                    raise ValueError(f"every video of {(w, k)!r} must have hidden frames")
+                rows.append({"bridge [px]": w, "condition": k, "model seed": seed,
+                             **{label: float(np.mean([t[key][o].mean() < limit for t, o in zip(trials, occ)]))
+                                for label, key in (("DMA", "viterbi"), ("DMA smoother", "smooth"))}})
+    return pd.DataFrame(rows), {"bridge [px]": EXACT, "*": share(n_videos)}

@@ -133,7 +133,12 @@ def _road_trial(rng: np.random.Generator, ex: RoadExample, n_steps: int, with_ek
     x = ex.drive(n_steps, rng)
     y = ex.observe(x, rng)
     le = sensor.log_likelihoods(y)
-    dec = decode_all(ls, lt, le) if set(methods) - {"viterbi"} else {"viterbi": viterbi(ls, lt, le)}
+    if not methods:
+        dec = {}
+    elif set(methods) - {"viterbi"}:
+        dec = decode_all(ls, lt, le)
+    else:
+        dec = {"viterbi": viterbi(ls, lt, le)}
     out = {k: np.linalg.norm(ex.points[dec[k]] - x, axis=1) for k in methods}
     if with_ekf:
         est = ekf_range(y, ex.receiver, ex.omega, ex.noise_var, x0=x[0, :2], v0=(x[1, :2] - x[0, :2]) / ex.dt,
@@ -150,14 +155,15 @@ def road_trials(ex: RoadExample, n_trials: int, n_steps: int, rng: np.random.Gen
     observations (eq. (14)), decoded by ``methods`` (Viterbi, smoothing, filtering; and the
     road-ignoring EKF if ``with_ekf``). Returns position errors in m,
     ``(n_trials, n_steps)``, per method. ``n_trials`` and ``n_steps`` (>= 2) must be
-    positive ints and ``methods`` a non-empty subset of the three decoders (ValueError
-    otherwise).
+    positive ints and ``methods`` a subset of the three decoders, empty only with
+    ``with_ekf`` (the EKF alone; ValueError otherwise).
     """
     n_trials = as_count(n_trials, "n_trials")
     n_steps = as_count(n_steps, "n_steps", minimum=2)
     methods = tuple(methods)
-    if not methods or set(methods) - {"viterbi", "smooth", "filter"}:
-        raise ValueError(f"methods must be a non-empty subset of ('viterbi', 'smooth', 'filter'), got {methods!r}")
+    if set(methods) - {"viterbi", "smooth", "filter"} or not (methods or with_ekf):
+        raise ValueError(f"methods must be a subset of ('viterbi', 'smooth', 'filter'), empty only with with_ekf, "
+                         f"got {methods!r}")
     trials = run(_road_trial, int(n_trials), rng, ex, int(n_steps), bool(with_ekf), methods)
     return {k: np.array([t[k] for t in trials]) for k in trials[0]}
 

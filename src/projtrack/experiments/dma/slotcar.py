@@ -117,7 +117,8 @@ def track_video(
 
     Renders :func:`projtrack.scenes.slotcar.make_slotcar_video` (``n_frames``,
     ``video_options``) from ``rng``, takes its active pixels against ``background`` and
-    returns the errors of the DMA Viterbi estimate (``"viterbi"``), of the per-frame
+    returns the errors of the DMA Viterbi estimate (``"viterbi"``), of DMA's per-instant
+    forward-backward estimate (``"smooth"``), of the per-frame
     detector (the centroid whose box holds the most active pixels, ``"per-frame"``), of
     the nearest centroid to the truth (the floor set by the centroids, ``"floor"``) and
     the ``"occluded"`` flags of the frames. With ``map_free`` (:class:`MapFree`), also the
@@ -130,7 +131,9 @@ def track_video(
     est = model.predict(active, sensor)
     naive = model.prototypes_[np.argmax(sensor.counts(active), axis=1)]
     quant = model.prototypes_[model.quantize(video.positions)]
+    smooth = model.predict(active, sensor, method="smooth")
     out = {"viterbi": np.linalg.norm(est - video.positions, axis=1),
+           "smooth": np.linalg.norm(smooth - video.positions, axis=1),
            "per-frame": np.linalg.norm(naive - video.positions, axis=1),
            "floor": np.linalg.norm(quant - video.positions, axis=1), "occluded": video.occluded}
     if map_free is not None:
