@@ -101,6 +101,18 @@ def test_possible_detections_readings():
         ex.possible_detections({"in_view": in_view}, "1 of 20 frames")
 
 
+def test_run_outcome_single_run():
+    in_view = np.array([[20, 1], [12, 0], [20, 20]])
+    found = np.array([[True, False], [True, False], [False, True]])
+    run = {"in_view": in_view, "found": found, "false": np.array([0, 1, 0]), "crossed": 2, "seen": 2}
+    o = ex.run_outcome(run, "1 of 20 frames", (0.5, 0.7))
+    assert o["rate"] == pytest.approx(3 / 5) and o["matched"] and o["all seen"] and not o["no false"]
+    o = ex.run_outcome({**run, "false": np.zeros(3), "seen": 1}, "one per 5 s in view", (0.8, 0.9))
+    assert o["rate"] == pytest.approx(3 / 4) and not o["matched"] and not o["all seen"] and o["no false"]
+    with pytest.raises(ValueError, match="interval"):
+        ex.run_outcome(run, "1 of 20 frames", (0.9, 0.8))
+
+
 def test_accuracy_experiment_small():
     r = ex.accuracy_experiment(np.random.default_rng(0), 10.0, 0.25, n_targets=4, return_errors=True)
     assert r["n_p"] == 20 and r["errors"].shape == (4, 4)
@@ -294,6 +306,18 @@ def test_pair_scene_geometry():
     assert len(tr) == 1 and np.sum(lab < 0) <= 21 * 5 + 3 and np.sum(lab < 0) >= 21 * 5
     with pytest.raises(ValueError, match="kind"):
         ex.pair_scene(np.random.default_rng(1), "diverging", 3)
+
+
+@pytest.mark.parametrize("radius", [(0.5, 1.5), (1.0, 3.0), (2.0, 4.0)])
+def test_pair_scene_clutter_radius(radius):
+    tr, fr = ex.pair_scene(np.random.default_rng(4), "clutter", 10, clutter_radius=radius)
+    for f, (p, lab) in enumerate(zip(fr.points, fr.labels)):
+        close = p[lab < 0][5:]  # the close false pixels follow the 5 uniform ones
+        d = np.linalg.norm(close - fr.truth[f, 0], axis=1)
+        assert np.all(d <= radius[1] + np.sqrt(0.5) + 1e-9) and np.all(d >= radius[0] - np.sqrt(0.5) - 1e-9)
+    assert sum(int(np.sum(lab < 0)) - 5 for lab in fr.labels) <= 10
+    with pytest.raises(ValueError, match="clutter_radius"):
+        ex.pair_scene(np.random.default_rng(1), "clutter", 3, clutter_radius=(3.0, 1.0))
 
 
 def test_pair_trial_and_summary():

@@ -22,7 +22,7 @@ from __future__ import annotations
 from projtrack.experiments.hough.accuracy import (ROUND_VAR, STOPS, accuracy_experiment, accuracy_sweep, accuracy_target,
                                                   baseline_within, closest_margin, readings_table, within_counts)
 from projtrack.experiments.hough.continuous import (POSSIBLE_READINGS, continuous_run, never_detected,
-                                                    possible_detections)
+                                                    possible_detections, run_outcome)
 from projtrack.experiments.hough.optical import (EQ4_READINGS, OPT_PLANES, SKIMAGE_RULES, composite_image,
                                                  eq4_strip_counts, exact_hough, geometry_trial, match_peaks,
                                                  optics_trial, peer_trial, plateau_trial, plateau_width,
@@ -56,6 +56,7 @@ __all__ = [
     "never_detected",
     "POSSIBLE_READINGS",
     "possible_detections",
+    "run_outcome",
     "PAIR_KINDS",
     "pair_scene",
     "pair_trial",

@@ -17,7 +17,7 @@ from projtrack.experiments.hough.scoring import evaluate_initiation
 from projtrack.hough import TrackInitiator
 from projtrack.scenes.boost import Frames, continuous_launches, frame_times, render_frames
 
-__all__ = ["continuous_run", "never_detected", "POSSIBLE_READINGS", "possible_detections"]
+__all__ = ["continuous_run", "never_detected", "POSSIBLE_READINGS", "possible_detections", "run_outcome"]
 
 #: Readings of "one possible detection for each 5 s": a segment is a possible detection of a
 #: target in view in at least k of its frames (``"k of 20 frames"``), or a target has
@@ -108,6 +108,24 @@ def possible_detections(run: dict, reading: str = "15 of 20 frames", segment: in
         raise ValueError(f"reading {reading!r} needs segments of at least {k} frames, got {segment}")
     ok = in_view >= k
     return int(ok.sum()), int((ok & found).sum())
+
+
+def run_outcome(run: dict, reading: str, interval: tuple[float, float]) -> dict[str, object]:
+    """The single-run outcomes of Fig. 4 for one :func:`continuous_run`.
+
+    ``rate``: detected over possible detections under ``reading`` (see
+    :func:`possible_detections`); ``matched``: whether it lies in ``interval`` (ends
+    included), for example the exact 95 % interval of the paper's 45 of 49; ``all seen``:
+    every target that crossed the field found at least once; ``no false``: no confirmed
+    false track in any segment.
+    """
+    lo, hi = (as_real(v, "interval") for v in interval)
+    if hi < lo:
+        raise ValueError(f"interval must be (low, high) with low <= high, got {interval!r}")
+    possible, detected = possible_detections(run, reading)
+    rate = detected / possible if possible else float("nan")
+    return {"rate": rate, "matched": bool(possible and lo <= rate <= hi),
+            "all seen": bool(run["seen"] == run["crossed"]), "no false": bool(np.sum(run["false"]) == 0)}
 
 
 def never_detected(rng: np.random.Generator, min_votes: float | None = None, *, n_targets: int = 15,

@@ -151,7 +151,8 @@ def _straight(centre: np.ndarray, velocity: np.ndarray, t_mid: float) -> BoostTr
 
 
 def pair_scene(rng: np.random.Generator, kind: str, value: float, *, speed: float = 20.0,
-               n_noise: int = 5, jitter_sigma: float = 0.5) -> tuple[list[BoostTrajectory], Frames]:
+               n_noise: int = 5, jitter_sigma: float = 0.5,
+               clutter_radius: tuple[float, float] = (1.0, 3.0)) -> tuple[list[BoostTrajectory], Frames]:
     """A scenario of Sec. V in the settings of Fig. 2 (21 frames of 0.25 s, jitter, false pixels).
 
     Target 0 moves at ``speed`` pixels/s in a uniform random direction and passes a centre
@@ -162,9 +163,11 @@ def pair_scene(rng: np.random.Generator, kind: str, value: float, *, speed: floa
       by ``value`` degrees (the two tracks cross mid-window);
     * ``"parallel"``: target 1 has the same velocity, ``value`` pixels to the side of
       target 0 (two closely spaced tracks);
-    * ``"clutter"``: no second target; ``int(value)`` false pixels are put 1-3 pixels from
-      target 0's true position in randomly chosen frames (random observations close to the
-      actual ones), besides the ``n_noise`` uniform ones per frame.
+    * ``"clutter"``: no second target; ``int(value)`` false pixels are put at a distance
+      drawn uniformly in ``clutter_radius`` (default 1-3 pixels) from target 0's true
+      position, in a uniform direction, in randomly chosen frames (random observations close
+      to the actual ones), besides the ``n_noise`` uniform ones per frame; a pixel that
+      falls on an existing detection is not added (a frame is a binary image).
     """
     rng = as_rng(rng)
     as_choice(kind, "kind", tuple(PAIR_KINDS))
@@ -184,10 +187,13 @@ def pair_scene(rng: np.random.Generator, kind: str, value: float, *, speed: floa
                            jitter_sigma=as_real(jitter_sigma, "jitter_sigma", 0))
     if kind == "clutter":
         k = as_int(int(value), "value", minimum=0)
+        r_lo, r_hi = (as_real(r, "clutter_radius", 0) for r in clutter_radius)
+        if r_hi < r_lo:
+            raise ValueError(f"clutter_radius must be (low, high) with low <= high, got {clutter_radius!r}")
         picks = rng.choice(len(SALVO_TIMES), size=min(k, len(SALVO_TIMES)), replace=False)
         pts, labs = list(frames.points), list(frames.labels)
         for f in sorted(int(p) for p in picks):
-            ang, r = rng.uniform(0.0, 2 * np.pi), rng.uniform(1.0, 3.0)
+            ang, r = rng.uniform(0.0, 2 * np.pi), rng.uniform(r_lo, r_hi)
             q = np.rint(frames.truth[f, 0] + r * np.array([np.cos(ang), np.sin(ang)]))
             if np.any(np.all(pts[f] == q, axis=1)):
                 continue  # already a detection there (a frame is a binary image)
