@@ -15,8 +15,9 @@ Modules (everything public is re-exported here):
 * :mod:`~projtrack.experiments.neuralnet.comparison`: the net against the reference solvers of the
   same cost, against noise and against the number of targets; parallel against serial updates;
   the frame-by-frame rule that keeps the paper's energy and finds noisy tracks;
-* :mod:`~projtrack.experiments.neuralnet.degraded`: the claims of Sec. IV: term 3 of eq. (8) as
-  printed against eq. (9), the connection matrices of eq. (10), and the net on data with spurious
+* :mod:`~projtrack.experiments.neuralnet.equations`: term 3 of eq. (8) as printed against eq. (9),
+  and the connection matrices of eq. (10);
+* :mod:`~projtrack.experiments.neuralnet.degraded`: the claims of Sec. IV on data with spurious
   measurements and missing detections.
 """
 
@@ -24,9 +25,10 @@ from .comparison import (METHODS, accuracy, net_standard_error, comparison_cells
                          frame_rule_table, nearest_admissible, noise_sweep, operation_counts, optimum_net_ratios, descent_rounds, plot_comparison, plot_timing, size_sweep, update_order_study)
 from .criterion import (PAPER_FAILURES, ci_step, fmt_p, k_range, mode_probability, p_row, p_table, rate_ci,
                         stable_down, stable_up, table1_readings, table1_tables, ten_run_replications)
-from .degraded import (OUTCOMES, TOLERATED, DegradedDraw, bound_text, central_differences, connection_check,
-                       connection_table, degraded_outcome, degraded_optimum, degraded_optimum_study, degraded_study, draw_degraded, measurement_counts, tolerance_readings, eq8_term3_check,
-                       gradient_forms, plot_architecture, term3_eq9, term3_printed, term3_read)
+from .degraded import (OUTCOMES, TOLERATED, DegradedDraw, degraded_outcome, degraded_optimum, degraded_optimum_study,
+                       degraded_study, draw_degraded, measurement_counts, tolerance_readings)
+from .equations import (bound_text, central_differences, connection_check, connection_table, eq8_term3_check,
+                        gradient_forms, plot_architecture, term3_eq9, term3_printed, term3_read)
 from .sensitivity import (SENSITIVITY_RULES, plot_readings, sensitivity_readings, sensitivity_seed, sensitivity_study,
                           sensitivity_table, sensitivity_verdicts)
 from .studies import (TABLE1_KEYS, bound_direct_check, bound_holds, bound_table, bound_trial, cut_for_rates,
