@@ -284,3 +284,24 @@ def test_glance_and_scorecard_html(figdir):
     glance = card.glance()
     assert [r.item for r in glance.rows] == ["DMA-F9"]                     # beyond rows left out
     assert "qualitative" in glance._repr_html_() and math.isfinite(len(repr(glance)))
+
+
+def test_glued_figures_are_left_to_the_figure_regression():
+    # a glued figure is stored as base64 PNG; nbval replaces the whole of it (its pixels are
+    # compared by test_figure_regression.py), and nothing around it
+    import base64
+    import io
+    import re
+
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(1, 1))
+    ax.plot([0, 1], [0, 1])
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    b64 = base64.b64encode(buf.getvalue()).decode()
+    cfg = (Path(__file__).parent / "nbval_sanitize.cfg").read_text()
+    regex = cfg.split("[glued-figures]")[1].split("regex:")[1].split("\n")[0].strip()
+    assert re.sub(regex, "X", b64 + "\n") == "X" and re.sub(regex, "X", "a " + b64[:40]) == "a X"
+    assert re.sub(regex, "X", "figures/jpda/table1.csv 0.5") == "figures/jpda/table1.csv 0.5"
