@@ -61,8 +61,7 @@ def bridge_width_study(widths: tuple[float, ...], conditions: dict, n_videos: in
     for w in widths:
         w = as_real(w, "widths[i]", 0, low_open=True)
         for k, (opts, ann) in conditions.items():
-            train = [make_slotcar_video(n_train, np.random.default_rng(s), bridge_width=w, **opts) for s in train_seeds]
-            bg = training_background(train)
+            train, bg = _training_runs(w, opts, train_seeds, n_train)
             fitted = fit_slotcar(train, np.random.default_rng(model_seed), annotation_std=ann, background=bg)
             variants = {label: fit_grid_hmm(train, np.random.default_rng(model_seed), annotation_std=ann,
                                             background=bg, spread=s) for label, s in (spreads or {}).items()}
@@ -74,6 +73,12 @@ def bridge_width_study(widths: tuple[float, ...], conditions: dict, n_videos: in
             out[w, k] = (trials, fitted, mf)
     return out
 
+
+
+def _training_runs(width: float, opts: dict, train_seeds, n_train: int) -> tuple[list, np.ndarray]:
+    """The training videos of one bridge width and condition, and their background image."""
+    train = [make_slotcar_video(n_train, np.random.default_rng(s), bridge_width=width, **opts) for s in train_seeds]
+    return train, training_background(train)
 
 
 def hidden_stretch(occluded: np.ndarray) -> int:
@@ -206,8 +211,7 @@ def fit_seed_study(widths: tuple[float, ...], conditions: dict, model_seeds: tup
     for w in widths:
         w = as_real(w, "widths[i]", 0, low_open=True)
         for k, (opts, ann) in conditions.items():
-            train = [make_slotcar_video(n_train, np.random.default_rng(s), bridge_width=w, **opts) for s in train_seeds]
-            bg = training_background(train)
+            train, bg = _training_runs(w, opts, train_seeds, n_train)
             for seed in seeds:
                 fitted = fit_slotcar(train, np.random.default_rng(seed), annotation_std=ann, background=bg)
                 trials = tracking_study(*fitted, bg, n_videos, np.random.default_rng(test_seed), n_frames=n_frames,
